@@ -1,0 +1,94 @@
+# rtsim top-level build. Out of tree into $(BUILD); `make asan` builds the same
+# sources with AddressSanitizer + UndefinedBehaviorSanitizer into build/asan.
+#
+# Layout (SPEC.md "Top-level layout"): one static library per folder
+#   kernel/  -> libkernel.a   (discrete-event kernel; includes nothing else)
+#   tracer/  -> libtracer.a   (software ray tracer; may use nothing from model/)
+#   model/   -> libmodel.a    (the accelerator; uses kernel/ and tracer/ layouts)
+#   cli/     -> one binary per cli/<name>.c in $(BUILD)/bin
+#   testbench/tb_*.c -> one test program each; testbench/tb_*.sh run as scripts
+# Per-area extras (link flags, bench targets) live in mk/*.mk.
+
+BUILD    ?= build
+SAN      ?=
+CC       ?= gcc
+CXX      ?= g++
+OPT      ?= -O2
+# _GNU_SOURCE only for POSIX bits (clock_gettime, isatty, mkstemp, getopt_long).
+CPPFLAGS += -I. -D_GNU_SOURCE -MMD -MP
+CFLAGS   += -std=c11 $(OPT) -g -Wall -Wextra -Werror
+CXXFLAGS += -std=c++17 $(OPT) -g -Wall -Wextra -Werror
+LDLIBS   += -lm
+
+ifeq ($(SAN),1)
+  OPT       = -O1
+  SANFLAGS  = -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined
+  CFLAGS   += $(SANFLAGS)
+  CXXFLAGS += $(SANFLAGS)
+  LDFLAGS  += $(SANFLAGS)
+endif
+
+LIBS := model tracer kernel
+# Extra libraries per area (set in mk/*.mk): EXTRA_LDLIBS
+EXTRA_LDLIBS :=
+-include $(sort $(wildcard mk/*.mk))
+
+lib_srcs = $(sort $(wildcard $(1)/*.c) $(wildcard $(1)/*.cpp))
+lib_objs = $(patsubst %,$(BUILD)/obj/%.o,$(call lib_srcs,$(1)))
+LIB_FILES := $(foreach l,$(LIBS),$(if $(call lib_srcs,$(l)),$(BUILD)/lib/lib$(l).a))
+LINK_LIBS = $(LIB_FILES) $(EXTRA_LDLIBS) $(LDLIBS)
+
+CLI_SRCS := $(sort $(wildcard cli/*.c))
+CLI_BINS := $(patsubst cli/%.c,$(BUILD)/bin/%,$(CLI_SRCS))
+TB_SRCS  := $(sort $(wildcard testbench/tb_*.c))
+TB_BINS  := $(patsubst testbench/%.c,$(BUILD)/testbench/%,$(TB_SRCS))
+
+.PHONY: all asan test run bench deps clean
+.DEFAULT_GOAL := all
+all: $(CLI_BINS) $(TB_BINS)
+
+$(foreach l,$(LIBS),$(eval $(BUILD)/lib/lib$(l).a: $(call lib_objs,$(l))))
+$(BUILD)/lib/%.a:
+	@mkdir -p $(@D)
+	$(AR) rcs $@ $^
+
+$(BUILD)/obj/%.c.o: %.c
+	@mkdir -p $(@D)
+	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@
+$(BUILD)/obj/%.cpp.o: %.cpp
+	@mkdir -p $(@D)
+	$(CXX) $(CPPFLAGS) $(CXXFLAGS) -c $< -o $@
+
+# Binaries are linked with g++ because the OpenImageIO shim is C++.
+$(BUILD)/bin/%: $(BUILD)/obj/cli/%.c.o $(LIB_FILES)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) $< $(LINK_LIBS) -o $@
+$(BUILD)/testbench/%: $(BUILD)/obj/testbench/%.c.o $(LIB_FILES)
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) $< $(LINK_LIBS) -o $@
+
+asan:
+	$(MAKE) BUILD=build/asan SAN=1 all
+
+deps:
+	@scripts/install-deps.sh
+
+# The test command of README: builds both variants, runs every testbench in
+# both, ends with "N passed, N failed".
+test: deps
+	$(MAKE) all
+	$(MAKE) asan
+	@testbench/run.sh build build/asan
+
+RUN_CMD ?= $(BUILD)/bin/rtsim
+run: deps all
+	$(RUN_CMD)
+
+bench: deps all
+	@mkdir -p $(BUILD)/bench
+	@set -e; for s in $(sort $(wildcard bench/*.sh)); do bash $$s $(BUILD); done
+
+clean:
+	rm -rf build
+
+-include $(shell find $(BUILD)/obj -name '*.d' 2>/dev/null)

@@ -1,0 +1,58 @@
+#!/usr/bin/env bash
+# Runs every testbench of every given build directory and counts the cases.
+#   testbench/run.sh BUILD_DIR [BUILD_DIR...]
+# Programs: BUILD_DIR/testbench/tb_*; scripts: testbench/tb_*.sh (they get
+# RTSIM_BIN=BUILD_DIR/bin and RTSIM_TMP, a scratch folder). Each case prints
+# PASS/FAIL/SKIP (see tb.h). Ends with the line "N passed, N failed, N skipped".
+# Set TB_FILTER=regex to run only matching programs.
+set -u
+cd "$(dirname "$0")/.."
+pass=0 fail=0 skip=0
+failed_names=()
+per_program_timeout=${TB_TIMEOUT:-900}
+
+run_one() { # variant, label, command...
+  local variant=$1 label=$2; shift 2
+  local out rc
+  out=$(mktemp)
+  timeout "$per_program_timeout" "$@" >"$out" 2>"$out.err"
+  rc=$?
+  local p f s
+  p=$(grep -c '^PASS ' "$out"); f=$(grep -c '^FAIL ' "$out"); s=$(grep -c '^SKIP ' "$out")
+  sed -e "s|^|[$variant] |" "$out"
+  if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then
+    echo "[$variant] FAIL $label: exited with status $rc without reporting a failed case"
+    f=1
+  fi
+  if [ "$f" -gt 0 ] || [ "$rc" -ne 0 ]; then
+    echo "[$variant] --- stderr of $label (last 30 lines) ---"
+    tail -n 30 "$out.err" | sed -e "s|^|[$variant]   |"
+    failed_names+=("$variant:$label")
+  fi
+  pass=$((pass + p)); fail=$((fail + f)); skip=$((skip + s))
+  rm -f "$out" "$out.err"
+}
+
+for build in "$@"; do
+  variant=$(basename "$build")
+  [ "$build" = build ] && variant=release
+  export RTSIM_BIN="$PWD/$build/bin" RTSIM_TMP="$PWD/$build/tmp/tb"
+  rm -rf "$RTSIM_TMP"; mkdir -p "$RTSIM_TMP"
+  if [ "$variant" != release ]; then export RTSIM_TB_SANITIZED=1; else unset RTSIM_TB_SANITIZED; fi
+  export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1
+  for t in "$build"/testbench/tb_*; do
+    [ -x "$t" ] || continue
+    name=$(basename "$t")
+    [[ -n "${TB_FILTER:-}" && ! "$name" =~ $TB_FILTER ]] && continue
+    run_one "$variant" "$name" "$t"
+  done
+  for t in testbench/tb_*.sh; do
+    [ -f "$t" ] || continue
+    name=$(basename "$t")
+    [[ -n "${TB_FILTER:-}" && ! "$name" =~ $TB_FILTER ]] && continue
+    run_one "$variant" "$name" bash "$t"
+  done
+done
+if [ ${#failed_names[@]} -gt 0 ]; then echo "failed programs: ${failed_names[*]}"; fi
+echo "$pass passed, $fail failed, $skip skipped"
+[ "$fail" -eq 0 ]

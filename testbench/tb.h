@@ -1,0 +1,72 @@
+/* tb.h — the tiny test protocol every testbench program speaks.
+ *
+ * A testbench program runs cases; each case prints exactly one line:
+ *   PASS <case>            all its checks held
+ *   FAIL <case>: <why>     at least one check failed (first failure shown)
+ *   SKIP <case>: <why>     could not run here (e.g. ../shared/scenes absent)
+ * testbench/run.sh counts these lines over all programs; a program that exits
+ * non-zero without printing a FAIL (a crash, a sanitizer report) counts as one
+ * failure. Header-only so every testbench is a single .c file. */
+#ifndef RTSIM_TB_H
+#define RTSIM_TB_H
+
+#include <stdarg.h>
+#include <stdbool.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const char *tb_case_name;
+static int tb_case_failed;   /* checks failed in the current case */
+static int tb_cases_failed;  /* cases failed in this program */
+
+static inline void tb_begin(const char *name)
+{
+    tb_case_name = name;
+    tb_case_failed = 0;
+}
+
+/* Records a failed check; the first one of a case is shown on its FAIL line,
+ * later ones on stderr so the cause stays on one line. */
+static inline bool tb_check_at(bool ok, const char *file, int line, const char *fmt, ...)
+{
+    if (ok)
+        return true;
+    char msg[512];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    if (tb_case_failed++ == 0)
+        printf("FAIL %s: %s:%d: %s\n", tb_case_name, file, line, msg);
+    else
+        fprintf(stderr, "  also %s:%d: %s\n", file, line, msg);
+    fflush(stdout);
+    return false;
+}
+#define TB_CHECK(cond, ...) tb_check_at((cond), __FILE__, __LINE__, __VA_ARGS__)
+#define TB_EQ_INT(a, b) \
+    TB_CHECK((long long)(a) == (long long)(b), "%s == %s: %lld != %lld", #a, #b, (long long)(a), (long long)(b))
+
+static inline void tb_end(void)
+{
+    if (tb_case_failed == 0)
+        printf("PASS %s\n", tb_case_name);
+    else
+        tb_cases_failed++;
+    fflush(stdout);
+}
+
+static inline void tb_skip(const char *name, const char *why)
+{
+    printf("SKIP %s: %s\n", name, why);
+    fflush(stdout);
+}
+
+/* Exit status of the program: 0 when every case passed. */
+static inline int tb_finish(void) { return tb_cases_failed ? 1 : 0; }
+
+/* Set by run.sh for the sanitizer build: heavy cases may shrink their inputs. */
+static inline bool tb_is_sanitized(void) { return getenv("RTSIM_TB_SANITIZED") != NULL; }
+
+#endif

@@ -31,6 +31,8 @@ endif
 LIBS := model tracer kernel
 # Extra libraries per area (set in mk/*.mk): EXTRA_LDLIBS
 EXTRA_LDLIBS :=
+# Benchmark programs (bench/ only; may link SystemC, Assimp): BENCH_BINS
+BENCH_BINS :=
 -include $(sort $(wildcard mk/*.mk))
 
 lib_srcs = $(sort $(wildcard $(1)/*.c) $(wildcard $(1)/*.cpp))
@@ -84,7 +86,7 @@ RUN_CMD ?= $(BUILD)/bin/rtsim
 run: deps all
 	$(RUN_CMD)
 
-bench: deps all
+bench: deps all $(BENCH_BINS)
 	@mkdir -p $(BUILD)/bench
 	@set -e; for s in $(sort $(wildcard bench/*.sh)); do bash $$s $(BUILD); done
 

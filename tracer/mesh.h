@@ -22,7 +22,26 @@ typedef struct rt_mesh {
     uint32_t ntris;
 } rt_mesh;
 
+#ifdef __cplusplus
+extern "C" {
+#endif
+
 /* Frees the arrays and zeroes the struct; safe on a zeroed mesh. */
 void rt_mesh_free(rt_mesh *m);
+
+/* Axis-aligned bounds of all vertices (lo = hi = 0 for an empty mesh). */
+void rt_mesh_bounds(const rt_mesh *m, rt_vec3 *lo, rt_vec3 *hi);
+
+/* 64-bit FNV-1a hash (Fowler/Noll/Vo) of the counts, vertex bits and indices:
+ * equal meshes hash equal; used to check determinism. */
+uint64_t rt_mesh_hash(const rt_mesh *m);
+
+/* Unit geometric normal of triangle `prim`, n = normalize(cross(v1-v0, v2-v0))
+ * (vertex order as stored); (0,0,0) for a degenerate triangle. */
+rt_vec3 rt_mesh_tri_normal(const rt_mesh *m, uint32_t prim);
+
+#ifdef __cplusplus
+}
+#endif
 
 #endif

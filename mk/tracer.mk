@@ -1,2 +1,8 @@
 # Libraries the tracer uses: Embree 3 (reference), OpenImageIO (images), zlib (.gz scenes).
 EXTRA_LDLIBS += -lembree3 $(shell pkg-config --libs OpenImageIO 2>/dev/null) -lz
+
+# tracer-io helpers (docs/tracer-io.md). Prerequisites name libtracer.a
+# directly: LIB_FILES is defined after mk/*.mk are read.
+$(BUILD)/scripts/rt_preview: $(BUILD)/obj/scripts/rt_preview.c.o $(BUILD)/lib/libtracer.a
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) $< $(BUILD)/lib/libtracer.a $(EXTRA_LDLIBS) $(LDLIBS) -o $@

@@ -78,6 +78,6 @@ void rt_builtin_hairball(rt_mesh_builder *b, rt_views *views)
                 p[k] += STEP * d[k];
         }
     }
-    rt_mb_view(b, views, "front", 0.0, 0.6, 3.4, 0.0, 0.0, 0.0, 40.0);
-    rt_mb_view(b, views, "oblique", 2.3, 1.5, 2.3, 0.0, 0.0, 0.0, 40.0);
+    rt_mb_view(b, views, "front", 0.0, 0.5, 2.9, 0.0, 0.0, 0.0, 40.0);
+    rt_mb_view(b, views, "oblique", 2.0, 1.2, 1.9, 0.0, 0.0, 0.0, 40.0);
 }

@@ -116,5 +116,5 @@ void rt_builtin_interior(rt_mesh_builder *b, rt_views *views)
             drape(b, &rng, x, STOREY + 1.2, side * (ROW_Z - 0.7), pitch - 1.6, 5.5, 16, 12);
         }
     rt_mb_view(b, views, "hall", -18.0, 3.5, 0.5, 10.0, 5.0, -0.5, 60.0);
-    rt_mb_view(b, views, "gallery", 17.0, 11.0, -7.5, -4.0, 4.0, 3.0, 60.0);
+    rt_mb_view(b, views, "gallery", 18.0, 12.5, 0.0, -6.0, 3.0, 2.5, 60.0);
 }

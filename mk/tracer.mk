@@ -6,3 +6,9 @@ EXTRA_LDLIBS += -lembree3 $(shell pkg-config --libs OpenImageIO 2>/dev/null) -lz
 $(BUILD)/scripts/rt_preview: $(BUILD)/obj/scripts/rt_preview.c.o $(BUILD)/lib/libtracer.a
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $< $(BUILD)/lib/libtracer.a $(EXTRA_LDLIBS) $(LDLIBS) -o $@
+
+# Loader benchmark against Assimp (bench/tracer/loader.sh).
+BENCH_BINS += $(BUILD)/bench/tracer_loader
+$(BUILD)/bench/tracer_loader: $(BUILD)/obj/bench/tracer_loader.cpp.o $(BUILD)/lib/libtracer.a
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) $< $(BUILD)/lib/libtracer.a $(EXTRA_LDLIBS) $(shell pkg-config --libs assimp 2>/dev/null || echo -lassimp) $(LDLIBS) -o $@

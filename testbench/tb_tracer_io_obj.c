@@ -9,6 +9,7 @@
 
 #include "testbench/tb.h"
 #include "tracer/obj_load.h"
+#include "tracer/rng.h"
 
 static const char *tmpdir(void)
 {
@@ -191,6 +192,8 @@ static void test_errors(void)
          "bad face vertex 'two'"},
         {"obj_error_forward_reference", "f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n", "t.obj:1:",
          "out of range"},
+        {"obj_error_lone_v", "v 0 0 0\nv\n", "t.obj:2:", "0 coordinate"},
+        {"obj_error_lone_f", "v 0 0 0\nf\r\n", "t.obj:2:", "face has 0"},
         {"obj_error_no_faces", "v 0 0 0\n", "t.obj", "no faces"},
         {"obj_error_empty", "", "t.obj", "no faces"},
     };
@@ -217,8 +220,51 @@ static void test_errors(void)
     tb_end();
 }
 
+/* Seeded random mutations of a valid file: success with indices in range,
+ * or a message naming the file; never a crash or overread (ASan build). */
+static void test_fuzz(void)
+{
+    tb_begin("obj_fuzz_mutations");
+    static const char good[] = "# fuzz\nv 0 0 0\nv 1.5 0 -2e-3\nvt 0 1\nvn 0 0 1\nv 1 1 0\nv 0 1 0\n"
+                               "g a\nf 1/1/1 2/1/1 3/1/1\nf -4 -2 -1\nf 1 2 3 4\r\nf 1//1 3//1 4//1\n";
+    const char alphabet[] = " \t\r\n/-+.eE0123456789vtnf#x";
+    rt_rng rng;
+    rt_rng_seed(&rng, 77, 1);
+    unsigned silent = 0;
+    int runs = tb_is_sanitized() ? 3000 : 10000;
+    for (int i = 0; i < runs; i++) {
+        char b[sizeof good];
+        size_t n = sizeof good - 1;
+        memcpy(b, good, n);
+        int edits = 1 + (int)rt_rng_below(&rng, 4);
+        for (int e = 0; e < edits; e++) {
+            size_t at = rt_rng_below(&rng, (uint32_t)n);
+            if (rt_rng_below(&rng, 4) == 0)
+                n = at + 1;
+            else
+                b[at] = alphabet[rt_rng_below(&rng, sizeof alphabet - 1)];
+        }
+        char *copy = malloc(n);   /* exact size, no NUL: ASan sees overreads */
+        memcpy(copy, b, n);
+        rt_mesh m;
+        char err[512] = "";
+        bool ok = rt_obj_parse(copy, n, "t.obj", &m, err, sizeof err);
+        free(copy);
+        if (ok) {
+            for (uint64_t k = 0; k < 3ull * m.ntris; k++)
+                silent += m.tris[k] >= m.nverts;
+            rt_mesh_free(&m);
+        } else {
+            silent += strncmp(err, "t.obj", 5) != 0;
+        }
+    }
+    TB_EQ_INT(silent, 0);
+    tb_end();
+}
+
 int main(void)
 {
+    test_fuzz();
     test_face_forms();
     test_negative_and_polygons();
     test_comments_crlf();

@@ -10,6 +10,7 @@
 
 #include "testbench/tb.h"
 #include "tracer/ply_load.h"
+#include "tracer/rng.h"
 
 typedef struct buf {
     unsigned char d[8192];
@@ -264,6 +265,9 @@ static void test_errors(void)
         {"ply_error_two_vertex_face", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\n"
          "property float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\n"
          "end_header\n0 0 0\n1 0 0\n0 1 0\n2 0 1\n", "t.ply:13:", "at least 3"},
+        {"ply_error_propertyless_element_huge_count_no_hang", "ply\nformat ascii 1.0\nelement junk 18000000000000000000\n"
+         "element vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\n"
+         "property list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 5\n", "t.ply:14:", "out of range"},
         {"ply_error_no_triangles", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\n"
          "property float y\nproperty float z\nelement face 0\nproperty list uchar int vertex_indices\n"
          "end_header\n", "t.ply", "no faces"},
@@ -285,8 +289,72 @@ static void test_errors(void)
     }
 }
 
+/* Every prefix of valid files and thousands of seeded random mutations:
+ * the reader must either succeed or fail with a message naming the file,
+ * never crash, hang or read out of bounds (the ASan build checks that). */
+static void test_fuzz(void)
+{
+    for (int f = ASCII; f <= BE; f++) {
+        char name[96];
+        snprintf(name, sizeof name, "ply_fuzz_%s_prefixes_and_mutations", fmt_name(f));
+        tb_begin(name);
+        static buf good, b;
+        make_ply(&good, (enum fmt)f, "uchar", "int");
+        unsigned accepted_prefixes = 0, silent = 0;
+        for (size_t n = 0; n < good.n; n++) {
+            rt_mesh m;
+            char err[512] = "";
+            unsigned char *copy = malloc(n ? n : 1);   /* exact size: ASan sees overreads */
+            memcpy(copy, good.d, n);
+            bool ok = rt_ply_parse(copy, n, "t.ply", &m, err, sizeof err);
+            free(copy);
+            if (ok) {
+                accepted_prefixes++;
+                rt_mesh_free(&m);
+            } else if (strncmp(err, "t.ply", 5) != 0) {
+                silent++;
+            }
+        }
+        /* Only prefixes that end inside the unused material element's last
+         * value or after the faces' trailing bytes can still be complete. */
+        TB_CHECK(accepted_prefixes <= 16, "%u truncated prefixes accepted", accepted_prefixes);
+        rt_rng rng;
+        rt_rng_seed(&rng, 2024, (uint64_t)f);
+        int runs = tb_is_sanitized() ? 1500 : 4000;
+        for (int i = 0; i < runs; i++) {
+            b = good;
+            int edits = 1 + (int)rt_rng_below(&rng, 4);
+            for (int e = 0; e < edits; e++) {
+                size_t at = rt_rng_below(&rng, (uint32_t)b.n);
+                switch (rt_rng_below(&rng, 3)) {
+                case 0: b.d[at] = (unsigned char)rt_rng_u32(&rng); break;
+                case 1: b.d[at] ^= (unsigned char)(1u << rt_rng_below(&rng, 8)); break;
+                default: b.n = at + 1; break;   /* truncate */
+                }
+            }
+            unsigned char *copy = malloc(b.n);
+            memcpy(copy, b.d, b.n);
+            rt_mesh m;
+            char err[512] = "";
+            bool ok = rt_ply_parse(copy, b.n, "t.ply", &m, err, sizeof err);
+            free(copy);
+            if (ok) {
+                for (uint64_t k = 0; k < 3ull * m.ntris; k++)
+                    if (m.tris[k] >= m.nverts)
+                        silent++;
+                rt_mesh_free(&m);
+            } else if (strncmp(err, "t.ply", 5) != 0) {
+                silent++;
+            }
+        }
+        TB_EQ_INT(silent, 0);
+        tb_end();
+    }
+}
+
 int main(void)
 {
+    test_fuzz();
     test_formats();
     test_crlf_header_and_gzip();
     test_errors();

@@ -87,10 +87,10 @@ bool rt_obj_parse(const char *text, size_t len, const char *file, rt_mesh *out, 
             p = next;
             continue;
         }
-        if (s[0] == 'v' && s + 1 < eol && is_space(s[1])) {
+        if (s[0] == 'v' && (s + 1 == eol || is_space(s[1]))) {
             /* v x y z [w | r g b]: three coordinates required, rest ignored. */
             float c[3];
-            const char *q = s + 2;
+            const char *q = s + 1;
             for (int k = 0; k < 3; k++) {
                 q = skip_space(q, eol);
                 const char *r = rt_parse_float(q, eol, &c[k]);
@@ -116,14 +116,15 @@ bool rt_obj_parse(const char *text, size_t len, const char *file, rt_mesh *out, 
             if (!grow(&verts, 1))
                 goto oom;
             ((rt_vec3 *)verts.data)[verts.n++] = (rt_vec3){c[0], c[1], c[2]};
-        } else if (s[0] == 'v' && s + 2 < eol && (s[1] == 't' || s[1] == 'n') && is_space(s[2])) {
+        } else if (s[0] == 'v' && s + 2 <= eol && (s[1] == 't' || s[1] == 'n') &&
+                   (s + 2 == eol || is_space(s[2]))) {
             if (s[1] == 't')
                 nvt++;
             else
                 nvn++;
-        } else if (s[0] == 'f' && s + 1 < eol && is_space(s[1])) {
+        } else if (s[0] == 'f' && (s + 1 == eol || is_space(s[1]))) {
             poly.n = 0;
-            const char *q = skip_space(s + 2, eol);
+            const char *q = skip_space(s + 1, eol);
             while (q < eol && *q != '#') {
                 long long idx[3];
                 int have[3] = {1, 0, 0};

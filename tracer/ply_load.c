@@ -355,6 +355,8 @@ static bool check_fits(ply *p, const element *e)
 
 static bool skip_element(ply *p, const element *e)
 {
+    if (e->nprops == 0)
+        return true;   /* no data, whatever the count (would loop for nothing) */
     bool fixed = p->format != F_ASCII;
     uint64_t size = 0;
     for (int k = 0; k < e->nprops; k++) {
@@ -514,7 +516,9 @@ static bool read_faces(ply *p, const element *e, uint64_t nverts_declared, rt_me
                         p->file, e->props[li].name, type_names[e->props[li].type][0]);
         return false;
     }
-    size_t cap = e->count < (1u << 20) ? (size_t)e->count : (1u << 20);
+    /* check_fits bounded count by the data size (>= 1 byte per face), so one
+     * triangle per face is a safe first guess; polygons grow the array. */
+    size_t cap = (size_t)e->count;
     if (cap < 16)
         cap = 16;
     m->tris = malloc(cap * 3 * sizeof *m->tris);

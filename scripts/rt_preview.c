@@ -1,7 +1,10 @@
 /* rt_preview.c — renders small preview PNGs of scenes for the docs, using
  * the tracer I/O API (scene loading, camera, bounce, shade, image).
  *
- *   rt_preview SCENE OUT.png [--view NAME] [--res WxH] [--path] [--seed N]
+ *   rt_preview SCENE OUT.png [--view NAME] [--res WxH] [--path] [--spp N] [--seed N]
+ *
+ * --path: diffuse path tracing (bounce.h, shade.h), averaged over N frames
+ * with seeds seed .. seed+N-1 (default N = 1, the simulated workload).
  *
  * Intersection here is a self-contained median-split BVH with the
  * Moeller-Trumbore test (Moeller & Trumbore, JGT 1997): a preview tool, not
@@ -136,7 +139,7 @@ static void intersect(const bvh *b, const rt_ray *r, rt_hit *h)
 
 static int usage(const char *msg)
 {
-    fprintf(stderr, "rt_preview: %s\nusage: rt_preview SCENE OUT.png|OUT.exr [--view NAME] [--res WxH] [--path] [--seed N]\n", msg);
+    fprintf(stderr, "rt_preview: %s\nusage: rt_preview SCENE OUT.png|OUT.exr [--view NAME] [--res WxH] [--path] [--spp N] [--seed N]\n", msg);
     return 2;
 }
 
@@ -148,6 +151,7 @@ int main(int argc, char **argv)
     uint32_t w = 320, h = 180;
     bool path = false;
     unsigned long long seed = 1;
+    unsigned spp = 1;
     char err[1024];
     for (int i = 3; i < argc; i++) {
         if (!strcmp(argv[i], "--view") && i + 1 < argc)
@@ -157,7 +161,11 @@ int main(int argc, char **argv)
                 return usage(err);
         } else if (!strcmp(argv[i], "--path"))
             path = true;
-        else if (!strcmp(argv[i], "--seed") && i + 1 < argc)
+        else if (!strcmp(argv[i], "--spp") && i + 1 < argc) {
+            spp = (unsigned)strtoul(argv[++i], NULL, 10);
+            if (spp < 1 || spp > 4096)
+                return usage("--spp must be 1..4096");
+        } else if (!strcmp(argv[i], "--seed") && i + 1 < argc)
             seed = strtoull(argv[++i], NULL, 10);
         else
             return usage("unknown option");
@@ -198,16 +206,24 @@ int main(int argc, char **argv)
             if (!path) {
                 c = rt_shade_headlight(&s.mesh, &r, &hit);
             } else {
-                rt_path p;
-                rt_path_init(&p);
-                rt_path_add(&p, &r, &hit);
-                rt_ray next;
-                while (rt_bounce_ray(&s.mesh, &r, &hit, seed, RT_MAX_BOUNCES_DEFAULT, &next)) {
-                    r = next;
-                    intersect(&b, &r, &hit);
+                rt_ray primary = r;
+                rt_hit first = hit;
+                c = (rt_vec3){0, 0, 0};
+                for (unsigned k = 0; k < spp; k++) {
+                    rt_path p;
+                    rt_path_init(&p);
+                    r = primary, hit = first;
                     rt_path_add(&p, &r, &hit);
+                    rt_ray next;
+                    while (rt_bounce_ray(&s.mesh, &r, &hit, seed + k, RT_MAX_BOUNCES_DEFAULT, &next)) {
+                        r = next;
+                        intersect(&b, &r, &hit);
+                        rt_path_add(&p, &r, &hit);
+                    }
+                    c.x += p.radiance.x / spp, c.y += p.radiance.y / spp, c.z += p.radiance.z / spp;
                 }
-                c = p.radiance;
+                /* radiance is linear: encode with display gamma 2.2 for the PNG */
+                c = (rt_vec3){powf(c.x, 1 / 2.2f), powf(c.y, 1 / 2.2f), powf(c.z, 1 / 2.2f)};
             }
             float *o = rgb + 3 * ((size_t)py * w + px);
             o[0] = c.x, o[1] = c.y, o[2] = c.z;

@@ -220,8 +220,43 @@ static void test_scene_files(void)
     tb_end();
 }
 
+static bool same_view(const rt_view *a, const rt_view *b)
+{
+    return !strcmp(a->name, b->name) && !memcmp(&a->eye, &b->eye, sizeof a->eye) &&
+           !memcmp(&a->at, &b->at, sizeof a->at) && !memcmp(&a->up, &b->up, sizeof a->up) && a->fov_deg == b->fov_deg;
+}
+
+/* scenes/<name>.scene (run from the repository root, as run.sh does) name the
+ * built-in and repeat its default views first, so the two cannot drift. */
+static void test_repo_scene_files(void)
+{
+    tb_begin("repo_scene_files_match_builtins");
+    for (unsigned i = 0; i < rt_builtin_count(); i++) {
+        const char *name = rt_builtin_name(i);
+        char path[256], err[1024] = "";
+        snprintf(path, sizeof path, "scenes/%s.scene", name);
+        rt_scene s;
+        rt_mesh m;
+        rt_views vs;
+        bool ok = rt_scene_load(path, &s, err, sizeof err);
+        if (!TB_CHECK(ok, "%s", err))
+            continue;
+        rt_builtin_generate(name, &m, &vs, err, sizeof err);
+        TB_CHECK(rt_mesh_hash(&s.mesh) == rt_mesh_hash(&m), "%s: mesh differs from the built-in", path);
+        TB_CHECK(s.views.n >= vs.n, "%s: %u views", path, s.views.n);
+        for (uint32_t k = 0; k < vs.n && k < s.views.n; k++)
+            TB_CHECK(same_view(&s.views.v[k], &vs.v[k]), "%s: view %u (%s) differs from the built-in's %s", path, k,
+                     s.views.v[k].name, vs.v[k].name);
+        rt_scene_free(&s);
+        rt_mesh_free(&m);
+        rt_views_free(&vs);
+    }
+    tb_end();
+}
+
 int main(void)
 {
+    test_repo_scene_files();
     const char *t = getenv("RTSIM_TMP");
     snprintf(tmp, sizeof tmp, "%s/tb_tracer_io_scene", t && *t ? t : "/tmp");
     mkdir(tmp, 0777);

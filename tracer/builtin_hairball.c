@@ -7,9 +7,9 @@
 
 #include "tracer/rng.h"
 
-enum { STRANDS = 360, SEGMENTS = 28 };   /* 360 * 28 * 6 = 60,480 triangles */
-static const double STEP = 0.09;         /* axis step length */
-static const double RADIUS = 0.008;      /* tube radius */
+enum { STRANDS = 700, SEGMENTS = 20 };   /* 700 * 20 * 6 = 84,000 triangles */
+static const double STEP = 0.10;         /* axis step length */
+static const double RADIUS = 0.010;      /* tube radius */
 static const double BALL = 1.0;          /* strands stay inside this sphere */
 
 static void normalize(double v[3])

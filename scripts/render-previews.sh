@@ -1,0 +1,16 @@
+#!/usr/bin/env bash
+# Renders the small preview PNGs of the built-in scenes into docs/images/
+# (committed; referenced by docs/tracer-io.md and README). Uses
+# scripts/rt_preview.c, which goes through the tracer I/O API.
+#   scripts/render-previews.sh [BUILD_DIR]
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build}
+make -s "$build/scripts/rt_preview"
+mkdir -p docs/images
+for s in interior hairball city forest; do
+  "$build/scripts/rt_preview" "$s" "docs/images/builtin-$s.png" --res 320x180
+done
+# One diffuse path-traced frame (4 bounces, averaged over 16 seeds) of the interior.
+"$build/scripts/rt_preview" interior docs/images/builtin-interior-path16.png --res 320x180 --path --spp 16
+ls -l docs/images/builtin-*.png >&2

@@ -38,6 +38,7 @@ static void usage(FILE *o)
             "  --json            print one JSON object instead of the text summary\n"
             "  --cmd-trace FILE  write the command stream (cycle,channel,rank,bank,CMD,row)\n"
             "  --check           run the timing checker on the command stream (exit 1 on violation)\n"
+            "  --exhaustive      run the scheduler every cycle, no idle skipping (slow reference mode)\n"
             "  --help, --version\n",
             RTSIM_DATA_DIR);
 }
@@ -65,11 +66,12 @@ int main(int argc, char **argv)
         {"config", required_argument, 0, 'c'}, {"power", required_argument, 0, 'p'},
         {"set", required_argument, 0, 's'},    {"json", no_argument, 0, 'j'},
         {"cmd-trace", required_argument, 0, 't'}, {"check", no_argument, 0, 'k'},
+        {"exhaustive", no_argument, 0, 'x'},
         {"help", no_argument, 0, 'h'},         {"version", no_argument, 0, 'v'},
         {0, 0, 0, 0}};
     const char *config = NULL, *power = NULL, *cmd_trace = NULL;
     const char **sets = calloc((size_t)argc, sizeof *sets);
-    int nsets = 0, json = 0, check = 0, o;
+    int nsets = 0, json = 0, check = 0, exhaustive = 0, o;
     while ((o = getopt_long(argc, argv, "", opts, NULL)) != -1) {
         switch (o) {
         case 'c': config = optarg; break;
@@ -78,6 +80,7 @@ int main(int argc, char **argv)
         case 'j': json = 1; break;
         case 't': cmd_trace = optarg; break;
         case 'k': check = 1; break;
+        case 'x': exhaustive = 1; break;
         case 'h': usage(stdout); free(sets); return 0;
         case 'v': printf("rtdram %s (git %s)\n", RTDRAM_VERSION, RTSIM_GIT); free(sets); return 0;
         default: usage(stderr); free(sets); return 2;
@@ -122,6 +125,7 @@ int main(int argc, char **argv)
         fclose(tf);
         return 2;
     }
+    dram_set_exhaustive(c, exhaustive);
     sink sk = {0};
     char tmp[1100];
     if (cmd_trace) {

@@ -15,6 +15,7 @@ typedef struct dreq {
     int64_t arrive, depart;
     uint32_t row;
     uint16_t rank, bank;
+    uint16_t bidx;         /* rank * banks + bank */
     uint8_t type;
     uint8_t first;         /* no command issued yet (row hit/miss/conflict not yet counted) */
 } dreq;
@@ -25,6 +26,7 @@ typedef struct dqueue {
 } dqueue;
 
 typedef struct dbank {
+    int64_t eff[DRAM_NCMD];    /* max of channel, rank and bank next[]: when each command may issue */
     int64_t next[DRAM_NCMD];   /* earliest cycle each command may issue (bank constraints) */
     int32_t open_row;          /* -1 = closed */
     int32_t hits;              /* RD/WR to the open row since its ACT (Ramulator RowTable) */
@@ -46,6 +48,8 @@ typedef struct dchan {
     drank *ranks;
     dbank *banks;              /* rank-major */
     int write_mode;
+    int64_t sched_wake;        /* no command can issue before this cycle unless the queues or
+                                  bank states change (0 = unknown: run the scheduler) */
     int64_t refreshed;         /* cycle of the last refresh injection */
     dram_chan_stats st;
 } dchan;
@@ -66,6 +70,7 @@ struct dram_ctrl {
     int64_t clk;
     int nch, nrank, nbank;
     int write_high_pct;
+    int exhaustive;            /* run the scheduler every cycle, never skip (reference mode) */
     dchan *ch;
     cons_row rows[DRAM_MAX_CONSTRAINTS];
     int row_start[DRAM_NSCOPE][DRAM_NCMD], row_count[DRAM_NSCOPE][DRAM_NCMD];
@@ -208,7 +213,8 @@ void dram_set_write_high_pct(dram_ctrl *c, int pct) { c->write_high_pct = pct; }
 
 static inline dbank *bank_of(const dram_ctrl *c, dchan *ch, const dreq *r)
 {
-    return &ch->banks[r->rank * c->nbank + r->bank];
+    (void)c;
+    return &ch->banks[r->bidx];
 }
 
 /* The command a request needs next (Ramulator decode/prereq). */
@@ -229,22 +235,41 @@ static inline int64_t max64(int64_t a, int64_t b) { return a > b ? a : b; }
 /* Earliest cycle `cmd` for request r may issue given everything issued so far. */
 static inline int64_t earliest(const dram_ctrl *c, dchan *ch, const dreq *r, int cmd)
 {
-    int64_t t = max64(ch->next[cmd], ch->ranks[r->rank].next[cmd]);
     if (dram_cmd_is_bank_scoped(cmd))
-        t = max64(t, bank_of(c, ch, r)->next[cmd]);
-    return t;
+        return bank_of(c, ch, r)->eff[cmd];
+    return max64(ch->next[cmd], ch->ranks[r->rank].next[cmd]);
+}
+
+/* Refreshes every bank's eff[] of a channel after its next[] values changed. */
+static void update_eff(const dram_ctrl *c, dchan *ch)
+{
+    static const int bank_cmds[4] = {DRAM_ACT, DRAM_PRE, DRAM_RD, DRAM_WR};
+    for (int r = 0; r < c->nrank; r++) {
+        const drank *rk = &ch->ranks[r];
+        dbank *b = &ch->banks[r * c->nbank];
+        for (int k = 0; k < 4; k++) {
+            const int cmd = bank_cmds[k];
+            const int64_t t = max64(ch->next[cmd], rk->next[cmd]);
+            for (int i = 0; i < c->nbank; i++)
+                b[i].eff[cmd] = max64(t, b[i].next[cmd]);
+        }
+    }
 }
 
 /* FR-FCFS-Cap head: the oldest request that is ready with <= cap row hits, else the
  * oldest (ties: first in queue). `sorted` queues are in arrival order. -1 if empty. */
-static int pick(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted)
+static int pick(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, int64_t *min_earliest)
 {
     int best = -1, best_ready = 0;
     const int cap = c->spec->row_hit_cap;
+    int64_t lo = *min_earliest;
     for (int i = 0; i < q->n; i++) {
         const dreq *r = &q->v[i];
         int cmd = first_cmd(c, ch, r);
-        int ready = earliest(c, ch, r, cmd) <= c->clk;
+        int64_t e = earliest(c, ch, r, cmd);
+        if (e < lo)
+            lo = e;
+        int ready = e <= c->clk;
         if (ready && (cmd == DRAM_RD || cmd == DRAM_WR) && bank_of(c, ch, r)->hits > cap)
             ready = 0;
         if (best < 0) {
@@ -261,6 +286,7 @@ static int pick(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted)
             best = i;
         }
     }
+    *min_earliest = lo;
     return best;
 }
 
@@ -317,6 +343,7 @@ static void issue(dram_ctrl *c, int chi, int cmd, int rank, int bank, uint32_t r
                 if (b != bank)
                     apply_rows(c, DRAM_SCOPE_SIBLING, cmd, banks[b].next, NULL, now);
     }
+    update_eff(c, ch);
     switch (cmd) {
     case DRAM_ACT:
         banks[bank].open_row = (int32_t)row;
@@ -367,7 +394,8 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
     dram_addrmap_decode(&c->map, addr, &a);
     dchan *ch = &c->ch[a.channel];
     dreq r = {.addr = addr, .tag = tag, .arrive = c->clk, .depart = 0, .row = a.row,
-              .rank = (uint16_t)a.rank, .bank = (uint16_t)a.bank, .type = is_write ? REQ_WRITE : REQ_READ, .first = 1};
+              .rank = (uint16_t)a.rank, .bank = (uint16_t)a.bank,
+              .bidx = (uint16_t)(a.rank * (uint32_t)c->nbank + a.bank), .type = is_write ? REQ_WRITE : REQ_READ, .first = 1};
     if (!is_write)
         for (int i = 0; i < ch->writeq.n; i++)
             if (ch->writeq.v[i].addr == addr) { /* forwarded from the write queue */
@@ -377,6 +405,7 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
                 return true;
             }
     q_push(queue_for(ch, is_write), &r);
+    ch->sched_wake = 0;
     return true;
 }
 
@@ -410,16 +439,26 @@ static void chan_tick(dram_ctrl *c, int chi)
     /* 2. refresh */
     if (now - ch->refreshed >= c->spec->refresh_interval) {
         for (int rk = 0; rk < c->nrank; rk++) {
-            dreq r = {.arrive = now, .rank = (uint16_t)rk, .type = REQ_REFRESH, .first = 0};
+            dreq r = {.arrive = now, .rank = (uint16_t)rk, .bidx = (uint16_t)(rk * c->nbank), .type = REQ_REFRESH,
+                      .first = 0};
             q_push(&ch->otherq, &r);
         }
         ch->refreshed = now;
+        ch->sched_wake = 0;
     }
     /* 3. read or write mode */
-    ch->write_mode = write_mode_next(c, ch);
-    /* 4. one command: actq first, then refresh, then the mode's queue */
+    int mode = write_mode_next(c, ch);
+    if (mode != ch->write_mode) {
+        ch->write_mode = mode;
+        ch->sched_wake = 0;
+    }
+    /* 4. one command: actq first, then refresh, then the mode's queue. While nothing
+     * changed since the last scan found nothing issuable, skip the scan. */
+    if (now < ch->sched_wake && !c->exhaustive)
+        return;
+    int64_t lo = INT64_MAX;
     dqueue *q = &ch->actq;
-    int i = pick(c, ch, q, 0);
+    int i = pick(c, ch, q, 0, &lo);
     int cmd = -1;
     if (i >= 0) {
         cmd = first_cmd(c, ch, &q->v[i]);
@@ -428,13 +467,18 @@ static void chan_tick(dram_ctrl *c, int chi)
     }
     if (i < 0) {
         q = ch->otherq.n ? &ch->otherq : ch->write_mode ? &ch->writeq : &ch->readq;
-        i = pick(c, ch, q, 1);
-        if (i < 0)
+        i = pick(c, ch, q, 1, &lo);
+        if (i >= 0) {
+            cmd = first_cmd(c, ch, &q->v[i]);
+            if (earliest(c, ch, &q->v[i], cmd) > now)
+                i = -1;
+        }
+        if (i < 0) { /* full scans of both queues: lo bounds the next issue */
+            ch->sched_wake = lo;
             return;
-        cmd = first_cmd(c, ch, &q->v[i]);
-        if (earliest(c, ch, &q->v[i], cmd) > now)
-            return;
+        }
     }
+    ch->sched_wake = 0;
     dreq *r = &q->v[i];
     if (r->first && r->type != REQ_REFRESH) {
         r->first = 0;
@@ -485,31 +529,16 @@ int dram_pending(const dram_ctrl *c)
     return n;
 }
 
-static int64_t queue_earliest(const dram_ctrl *c, dchan *ch, const dqueue *q, int64_t t)
-{
-    for (int i = 0; i < q->n; i++) {
-        const dreq *r = &q->v[i];
-        int64_t e = earliest(c, ch, r, first_cmd(c, ch, r));
-        if (e < t)
-            t = e;
-    }
-    return t;
-}
-
 static int64_t chan_next_event(const dram_ctrl *c, dchan *ch)
 {
     const int64_t soon = c->clk + 1;
-    if (write_mode_next(c, ch) != ch->write_mode)
+    if (ch->sched_wake == 0 || write_mode_next(c, ch) != ch->write_mode)
         return soon;
     int64_t t = ch->refreshed + c->spec->refresh_interval;
-    if (ch->pend_n) {
-        int64_t d = ch->pend[ch->pend_head].depart;
-        if (d < t)
-            t = d;
-    }
-    t = queue_earliest(c, ch, &ch->actq, t);
-    const dqueue *q = ch->otherq.n ? &ch->otherq : ch->write_mode ? &ch->writeq : &ch->readq;
-    t = queue_earliest(c, ch, q, t);
+    if (ch->pend_n && ch->pend[ch->pend_head].depart < t)
+        t = ch->pend[ch->pend_head].depart;
+    if (ch->sched_wake < t)
+        t = ch->sched_wake;
     return t < soon ? soon : t;
 }
 
@@ -526,8 +555,12 @@ int64_t dram_next_event(const dram_ctrl *c)
     return t;
 }
 
+void dram_set_exhaustive(dram_ctrl *c, bool on) { c->exhaustive = on; }
+
 int64_t dram_skip(dram_ctrl *c)
 {
+    if (c->exhaustive)
+        return 0;
     int64_t t = dram_next_event(c);
     int64_t k = t - 1 - c->clk;
     if (k <= 0)

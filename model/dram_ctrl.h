@@ -84,6 +84,10 @@ int64_t dram_next_event(const dram_ctrl *c);
 /* Advances the clock over idle cycles to dram_next_event()-1; returns cycles skipped. */
 int64_t dram_skip(dram_ctrl *c);
 
+/* Reference mode for tests: scan the queues every cycle and never skip; results
+ * must be identical to the default (fast) mode. */
+void dram_set_exhaustive(dram_ctrl *c, bool on);
+
 /* Write high watermark in percent (the final drain of a trace sets 0). */
 void dram_set_write_high_pct(dram_ctrl *c, int pct);
 

@@ -21,7 +21,6 @@ int dram_cmd_from_name(const char *name)
     return -1;
 }
 
-int dram_cmd_is_bank_scoped(int cmd) { return cmd != DRAM_PREA && cmd != DRAM_REF; }
 
 /* ---- raw entries of the file (section, key, value, line) ---- */
 #define MAX_ENTRIES 256

@@ -78,6 +78,6 @@ extern const char *const dram_scope_name[DRAM_NSCOPE];
 /* Command of a name ("ACT", ...), or -1. */
 int dram_cmd_from_name(const char *name);
 /* 1 if the command targets one bank (ACT PRE RD WR), 0 if the whole rank (PREA REF). */
-int dram_cmd_is_bank_scoped(int cmd);
+static inline int dram_cmd_is_bank_scoped(int cmd) { return cmd != DRAM_PREA && cmd != DRAM_REF; }
 
 #endif

@@ -2,6 +2,8 @@
  * libinih, applies --set overrides, evaluates expressions, validates ranges. */
 #include "model/dram_timing.h"
 
+#include "model/dram_addrmap.h"
+
 #include <ctype.h>
 #include <errno.h>
 #include <ini.h>
@@ -465,5 +467,8 @@ int dram_spec_load(dram_spec *spec, const char *path, const char *const *sets, i
                  spec->write_low_pct, spec->write_high_pct);
         return -1;
     }
+    dram_addrmap map;
+    if (dram_addrmap_init(&map, spec, err, errlen))
+        return -1;
     return 0;
 }

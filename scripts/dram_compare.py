@@ -73,6 +73,7 @@ def main():
     ap.add_argument("--traces", default=os.path.join(ROOT, "build", "traces"))
     ap.add_argument("--rtdram", default=os.path.join(ROOT, "build", "bin", "rtdram"))
     ap.add_argument("--config", default="A_x32_2ch_il32", choices=sorted(CONFIGS))
+    ap.add_argument("--generate-only", action="store_true", help="only make sure the traces exist, print their folder")
     ap.add_argument("--json", help="also write the comparison rows as JSON to this file")
     a = ap.parse_args()
     if a.ref is None:
@@ -88,7 +89,7 @@ def main():
 
     ram_csv = os.path.join(a.ref, "ramulator_results.csv")
     dp_csv = os.path.join(a.ref, "drampower_results.csv")
-    for p in (ram_csv, dp_csv, os.path.join(a.ref, "gen_traces.py"), a.rtdram):
+    for p in (ram_csv, dp_csv, os.path.join(a.ref, "gen_traces.py")) + (() if a.generate_only else (a.rtdram,)):
         if not os.path.exists(p):
             print("dram_compare: missing %s" % p, file=sys.stderr)
             return 2
@@ -99,6 +100,9 @@ def main():
         print("generating traces: python3 %s %s" % (os.path.join(a.ref, "gen_traces.py"), a.traces), flush=True)
         subprocess.run([sys.executable, os.path.join(a.ref, "gen_traces.py"), a.traces], check=True,
                        stdout=subprocess.DEVNULL)
+    if a.generate_only:
+        print(os.path.abspath(a.traces))
+        return 0
     ram = load_csv(ram_csv, ["config", "trace"])
     dp = load_csv(dp_csv, ["config", "trace", "channel"])
 

@@ -1,0 +1,583 @@
+/* dram_ctrl.c — the controller of dram_ctrl.h: queues, FR-FCFS-Cap scheduler,
+ * bank state machines, refresh, and the earliest-issue bookkeeping that turns
+ * the spec's constraint rows into O(1) readiness checks. */
+#include "model/dram_ctrl.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { REQ_READ, REQ_WRITE, REQ_REFRESH };
+#define NEVER INT64_MIN
+
+typedef struct dreq {
+    uint64_t addr, tag;
+    int64_t arrive, depart;
+    uint32_t row;
+    uint16_t rank, bank;
+    uint16_t bidx;         /* rank * banks + bank */
+    uint8_t type;
+    uint8_t first;         /* no command issued yet (row hit/miss/conflict not yet counted) */
+} dreq;
+
+typedef struct dqueue {
+    dreq *v;
+    int n, cap;
+} dqueue;
+
+typedef struct dbank {
+    int64_t eff[DRAM_NCMD];    /* max of channel, rank and bank next[]: when each command may issue */
+    int64_t next[DRAM_NCMD];   /* earliest cycle each command may issue (bank constraints) */
+    int32_t open_row;          /* -1 = closed */
+    int32_t hits;              /* RD/WR to the open row since its ACT (Ramulator RowTable) */
+} dbank;
+
+typedef struct drank {
+    int64_t next[DRAM_NCMD];
+    int64_t hist[DRAM_NCMD][DRAM_MAX_WINDOW]; /* latest issue cycles, newest first */
+    int nopen;                 /* open banks */
+    int64_t open_since;        /* cycle the first bank opened (energy background) */
+} drank;
+
+typedef struct dchan {
+    int64_t next[DRAM_NCMD];
+    int64_t hist[DRAM_NCMD][DRAM_MAX_WINDOW];
+    dqueue readq, writeq, actq, otherq;
+    dreq *pend;                /* ring of reads waiting for their data, FIFO */
+    int pend_head, pend_n, pend_cap;
+    drank *ranks;
+    dbank *banks;              /* rank-major */
+    int write_mode;
+    int64_t sched_wake;        /* no command can issue before this cycle unless the queues or
+                                  bank states change (0 = unknown: run the scheduler) */
+    int64_t refreshed;         /* cycle of the last refresh injection */
+    dram_chan_stats st;
+} dchan;
+
+/* Constraint rows grouped by (scope, FROM). */
+typedef struct cons_row {
+    uint8_t to, window;
+    int32_t cycles;
+} cons_row;
+
+struct dram_ctrl {
+    const dram_spec *spec;
+    dram_addrmap map;
+    dram_done_fn done;
+    void *done_user;
+    dram_cmd_fn cmd_sink;
+    void *cmd_user;
+    int64_t clk;
+    int nch, nrank, nbank;
+    int write_high_pct;
+    int exhaustive;            /* run the scheduler every cycle, never skip (reference mode) */
+    dchan *ch;
+    cons_row rows[DRAM_MAX_CONSTRAINTS];
+    int row_start[DRAM_NSCOPE][DRAM_NCMD], row_count[DRAM_NSCOPE][DRAM_NCMD];
+    int max_window[DRAM_NSCOPE][DRAM_NCMD];
+};
+
+static void *xcalloc(size_t n, size_t sz)
+{
+    void *p = calloc(n ? n : 1, sz);
+    if (!p) {
+        fprintf(stderr, "dram_ctrl: out of memory\n");
+        exit(1);
+    }
+    return p;
+}
+
+static void q_init(dqueue *q, int cap)
+{
+    q->cap = cap;
+    q->n = 0;
+    q->v = xcalloc((size_t)cap, sizeof *q->v);
+}
+
+static void q_push(dqueue *q, const dreq *r)
+{
+    if (q->n == q->cap) {
+        q->cap *= 2;
+        q->v = realloc(q->v, (size_t)q->cap * sizeof *q->v);
+        if (!q->v) {
+            fprintf(stderr, "dram_ctrl: out of memory\n");
+            exit(1);
+        }
+    }
+    q->v[q->n++] = *r;
+}
+
+static void q_erase(dqueue *q, int i)
+{
+    memmove(&q->v[i], &q->v[i + 1], (size_t)(q->n - i - 1) * sizeof *q->v);
+    q->n--;
+}
+
+static void pend_push(dchan *ch, const dreq *r)
+{
+    if (ch->pend_n == ch->pend_cap) {
+        int ncap = ch->pend_cap ? 2 * ch->pend_cap : 16;
+        dreq *nv = xcalloc((size_t)ncap, sizeof *nv);
+        for (int i = 0; i < ch->pend_n; i++)
+            nv[i] = ch->pend[(ch->pend_head + i) % ch->pend_cap];
+        free(ch->pend);
+        ch->pend = nv;
+        ch->pend_cap = ncap;
+        ch->pend_head = 0;
+    }
+    ch->pend[(ch->pend_head + ch->pend_n++) % ch->pend_cap] = *r;
+}
+
+dram_ctrl *dram_ctrl_create(const dram_spec *spec, dram_done_fn done, void *user, char *err, size_t errlen)
+{
+    dram_ctrl *c = xcalloc(1, sizeof *c);
+    c->spec = spec;
+    if (dram_addrmap_init(&c->map, spec, err, errlen)) {
+        free(c);
+        return NULL;
+    }
+    c->done = done;
+    c->done_user = user;
+    c->nch = spec->channels;
+    c->nrank = spec->ranks;
+    c->nbank = spec->banks;
+    c->write_high_pct = spec->write_high_pct;
+    /* group constraint rows by (scope, FROM), keeping file order */
+    int n = 0;
+    for (int s = 0; s < DRAM_NSCOPE; s++)
+        for (int f = 0; f < DRAM_NCMD; f++) {
+            c->row_start[s][f] = n;
+            c->max_window[s][f] = 1;
+            for (int i = 0; i < spec->nconstraints; i++) {
+                const dram_constraint *k = &spec->constraint[i];
+                if (k->scope != s || k->from != f)
+                    continue;
+                c->rows[n++] = (cons_row){k->to, k->window, k->cycles};
+                if (k->window > c->max_window[s][f])
+                    c->max_window[s][f] = k->window;
+            }
+            c->row_count[s][f] = n - c->row_start[s][f];
+        }
+    c->ch = xcalloc((size_t)c->nch, sizeof *c->ch);
+    for (int i = 0; i < c->nch; i++) {
+        dchan *ch = &c->ch[i];
+        q_init(&ch->readq, spec->read_queue);
+        q_init(&ch->writeq, spec->write_queue);
+        q_init(&ch->actq, spec->read_queue + spec->write_queue);
+        q_init(&ch->otherq, 4 * c->nrank);
+        ch->ranks = xcalloc((size_t)c->nrank, sizeof *ch->ranks);
+        ch->banks = xcalloc((size_t)(c->nrank * c->nbank), sizeof *ch->banks);
+        for (int k = 0; k < DRAM_NCMD; k++)
+            for (int w = 0; w < DRAM_MAX_WINDOW; w++)
+                ch->hist[k][w] = NEVER;
+        for (int r = 0; r < c->nrank; r++)
+            for (int k = 0; k < DRAM_NCMD; k++)
+                for (int w = 0; w < DRAM_MAX_WINDOW; w++)
+                    ch->ranks[r].hist[k][w] = NEVER;
+        for (int b = 0; b < c->nrank * c->nbank; b++)
+            ch->banks[b].open_row = -1;
+    }
+    return c;
+}
+
+void dram_ctrl_destroy(dram_ctrl *c)
+{
+    if (!c)
+        return;
+    for (int i = 0; i < c->nch; i++) {
+        dchan *ch = &c->ch[i];
+        free(ch->readq.v);
+        free(ch->writeq.v);
+        free(ch->actq.v);
+        free(ch->otherq.v);
+        free(ch->pend);
+        free(ch->ranks);
+        free(ch->banks);
+    }
+    free(c->ch);
+    free(c);
+}
+
+void dram_set_cmd_sink(dram_ctrl *c, dram_cmd_fn fn, void *user)
+{
+    c->cmd_sink = fn;
+    c->cmd_user = user;
+}
+
+const dram_spec *dram_ctrl_spec(const dram_ctrl *c) { return c->spec; }
+const dram_addrmap *dram_ctrl_addrmap(const dram_ctrl *c) { return &c->map; }
+int64_t dram_clock(const dram_ctrl *c) { return c->clk; }
+void dram_set_write_high_pct(dram_ctrl *c, int pct) { c->write_high_pct = pct; }
+
+/* ---- readiness ---- */
+
+static inline dbank *bank_of(const dram_ctrl *c, dchan *ch, const dreq *r)
+{
+    (void)c;
+    return &ch->banks[r->bidx];
+}
+
+/* The command a request needs next (Ramulator decode/prereq). */
+static inline int first_cmd(const dram_ctrl *c, dchan *ch, const dreq *r)
+{
+    if (r->type == REQ_REFRESH)
+        return ch->ranks[r->rank].nopen ? DRAM_PREA : DRAM_REF;
+    const dbank *b = bank_of(c, ch, r);
+    if (b->open_row < 0)
+        return DRAM_ACT;
+    if ((uint32_t)b->open_row == r->row)
+        return r->type == REQ_WRITE ? DRAM_WR : DRAM_RD;
+    return DRAM_PRE;
+}
+
+static inline int64_t max64(int64_t a, int64_t b) { return a > b ? a : b; }
+
+/* Earliest cycle `cmd` for request r may issue given everything issued so far. */
+static inline int64_t earliest(const dram_ctrl *c, dchan *ch, const dreq *r, int cmd)
+{
+    if (dram_cmd_is_bank_scoped(cmd))
+        return bank_of(c, ch, r)->eff[cmd];
+    return max64(ch->next[cmd], ch->ranks[r->rank].next[cmd]);
+}
+
+/* Refreshes every bank's eff[] of a channel after its next[] values changed. */
+static void update_eff(const dram_ctrl *c, dchan *ch)
+{
+    static const int bank_cmds[4] = {DRAM_ACT, DRAM_PRE, DRAM_RD, DRAM_WR};
+    for (int r = 0; r < c->nrank; r++) {
+        const drank *rk = &ch->ranks[r];
+        dbank *b = &ch->banks[r * c->nbank];
+        for (int k = 0; k < 4; k++) {
+            const int cmd = bank_cmds[k];
+            const int64_t t = max64(ch->next[cmd], rk->next[cmd]);
+            for (int i = 0; i < c->nbank; i++)
+                b[i].eff[cmd] = max64(t, b[i].next[cmd]);
+        }
+    }
+}
+
+/* FR-FCFS-Cap head: the oldest request that is ready with <= cap row hits, else the
+ * oldest (ties: first in queue). `sorted` queues are in arrival order. -1 if empty. */
+static int pick(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, int64_t *min_earliest)
+{
+    int best = -1, best_ready = 0;
+    const int cap = c->spec->row_hit_cap;
+    int64_t lo = *min_earliest;
+    for (int i = 0; i < q->n; i++) {
+        const dreq *r = &q->v[i];
+        int cmd = first_cmd(c, ch, r);
+        int64_t e = earliest(c, ch, r, cmd);
+        if (e < lo)
+            lo = e;
+        int ready = e <= c->clk;
+        if (ready && (cmd == DRAM_RD || cmd == DRAM_WR) && bank_of(c, ch, r)->hits > cap)
+            ready = 0;
+        if (best < 0) {
+            best = i;
+            best_ready = ready;
+            if (sorted && ready)
+                break;
+        } else if (ready && !best_ready) {
+            best = i;
+            best_ready = 1;
+            if (sorted)
+                break;
+        } else if (ready == best_ready && r->arrive < q->v[best].arrive) {
+            best = i;
+        }
+    }
+    *min_earliest = lo;
+    return best;
+}
+
+/* ---- issuing ---- */
+
+static void apply_rows(const dram_ctrl *c, int scope, int cmd, int64_t *next, const int64_t (*hist)[DRAM_MAX_WINDOW],
+                       int64_t now)
+{
+    const cons_row *row = &c->rows[c->row_start[scope][cmd]];
+    for (int i = 0; i < c->row_count[scope][cmd]; i++) {
+        int64_t from = row[i].window == 1 ? now : hist[cmd][row[i].window - 1];
+        if (from == NEVER)
+            continue;
+        int64_t t = from + row[i].cycles;
+        if (t > next[row[i].to])
+            next[row[i].to] = t;
+    }
+}
+
+static void hist_push(int64_t (*hist)[DRAM_MAX_WINDOW], int cmd, int depth, int64_t now)
+{
+    for (int w = depth - 1; w > 0; w--)
+        hist[cmd][w] = hist[cmd][w - 1];
+    hist[cmd][0] = now;
+}
+
+static void close_bank(dchan *ch, drank *rk, dbank *b, int64_t now)
+{
+    if (b->open_row < 0)
+        return;
+    b->open_row = -1;
+    b->hits = 0;
+    ch->st.n_pre_banks++;
+    if (--rk->nopen == 0)
+        ch->st.open_cycles += (uint64_t)(now - rk->open_since);
+}
+
+static void issue(dram_ctrl *c, int chi, int cmd, int rank, int bank, uint32_t row)
+{
+    dchan *ch = &c->ch[chi];
+    drank *rk = &ch->ranks[rank];
+    const int64_t now = c->clk;
+    if (c->max_window[DRAM_SCOPE_CHANNEL][cmd] > 1)
+        hist_push(ch->hist, cmd, c->max_window[DRAM_SCOPE_CHANNEL][cmd], now);
+    if (c->max_window[DRAM_SCOPE_RANK][cmd] > 1)
+        hist_push(rk->hist, cmd, c->max_window[DRAM_SCOPE_RANK][cmd], now);
+    apply_rows(c, DRAM_SCOPE_CHANNEL, cmd, ch->next, (const int64_t(*)[DRAM_MAX_WINDOW])ch->hist, now);
+    apply_rows(c, DRAM_SCOPE_RANK, cmd, rk->next, (const int64_t(*)[DRAM_MAX_WINDOW])rk->hist, now);
+    dbank *banks = &ch->banks[rank * c->nbank];
+    if (dram_cmd_is_bank_scoped(cmd)) {
+        apply_rows(c, DRAM_SCOPE_BANK, cmd, banks[bank].next, NULL, now);
+        if (c->row_count[DRAM_SCOPE_SIBLING][cmd])
+            for (int b = 0; b < c->nbank; b++)
+                if (b != bank)
+                    apply_rows(c, DRAM_SCOPE_SIBLING, cmd, banks[b].next, NULL, now);
+    }
+    update_eff(c, ch);
+    switch (cmd) {
+    case DRAM_ACT:
+        banks[bank].open_row = (int32_t)row;
+        banks[bank].hits = 0;
+        if (rk->nopen++ == 0)
+            rk->open_since = now;
+        break;
+    case DRAM_PRE:
+        close_bank(ch, rk, &banks[bank], now);
+        break;
+    case DRAM_PREA:
+        for (int b = 0; b < c->nbank; b++)
+            close_bank(ch, rk, &banks[b], now);
+        break;
+    case DRAM_RD:
+    case DRAM_WR:
+        banks[bank].hits++;
+        break;
+    default:
+        break;
+    }
+    ch->st.n_cmd[cmd]++;
+    if (c->cmd_sink) {
+        dram_cmd_rec rec = {now, chi, rank, dram_cmd_is_bank_scoped(cmd) ? bank : -1,
+                            cmd == DRAM_ACT ? (int)row : -1, cmd};
+        c->cmd_sink(c->cmd_user, &rec);
+    }
+}
+
+/* ---- requests ---- */
+
+static dqueue *queue_for(dchan *ch, bool is_write) { return is_write ? &ch->writeq : &ch->readq; }
+
+bool dram_will_accept(const dram_ctrl *c, uint64_t addr, bool is_write)
+{
+    dram_addr a;
+    dram_addrmap_decode(&c->map, addr, &a);
+    dchan *ch = &c->ch[a.channel];
+    dqueue *q = queue_for(ch, is_write);
+    return q->n < (is_write ? c->spec->write_queue : c->spec->read_queue);
+}
+
+bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
+{
+    if (!dram_will_accept(c, addr, is_write))
+        return false;
+    dram_addr a;
+    dram_addrmap_decode(&c->map, addr, &a);
+    dchan *ch = &c->ch[a.channel];
+    dreq r = {.addr = addr, .tag = tag, .arrive = c->clk, .depart = 0, .row = a.row,
+              .rank = (uint16_t)a.rank, .bank = (uint16_t)a.bank,
+              .bidx = (uint16_t)(a.rank * (uint32_t)c->nbank + a.bank), .type = is_write ? REQ_WRITE : REQ_READ, .first = 1};
+    if (!is_write)
+        for (int i = 0; i < ch->writeq.n; i++)
+            if (ch->writeq.v[i].addr == addr) { /* forwarded from the write queue */
+                r.depart = c->clk + 1;
+                ch->st.reads_forwarded++;
+                pend_push(ch, &r);
+                return true;
+            }
+    q_push(queue_for(ch, is_write), &r);
+    ch->sched_wake = 0;
+    return true;
+}
+
+static int write_mode_next(const dram_ctrl *c, const dchan *ch)
+{
+    const int hi = c->spec->write_queue * c->write_high_pct / 100;
+    const int lo = c->spec->write_queue * c->spec->write_low_pct / 100;
+    if (!ch->write_mode)
+        return ch->writeq.n > hi || ch->readq.n == 0;
+    return !(ch->writeq.n < lo && ch->readq.n != 0);
+}
+
+static void chan_tick(dram_ctrl *c, int chi)
+{
+    dchan *ch = &c->ch[chi];
+    const int64_t now = c->clk;
+    ch->st.queue_occupancy_sum += (uint64_t)(ch->readq.n + ch->writeq.n + ch->pend_n);
+    /* 1. one completed read */
+    if (ch->pend_n && ch->pend[ch->pend_head].depart <= now) {
+        dreq r = ch->pend[ch->pend_head];
+        ch->pend_head = (ch->pend_head + 1) % ch->pend_cap;
+        ch->pend_n--;
+        int64_t lat = r.depart - r.arrive;
+        if (lat > 1) {
+            ch->st.reads_done++;
+            ch->st.read_latency_sum += (uint64_t)lat;
+        }
+        if (c->done)
+            c->done(c->done_user, r.addr, r.tag, false, lat);
+    }
+    /* 2. refresh */
+    if (now - ch->refreshed >= c->spec->refresh_interval) {
+        for (int rk = 0; rk < c->nrank; rk++) {
+            dreq r = {.arrive = now, .rank = (uint16_t)rk, .bidx = (uint16_t)(rk * c->nbank), .type = REQ_REFRESH,
+                      .first = 0};
+            q_push(&ch->otherq, &r);
+        }
+        ch->refreshed = now;
+        ch->sched_wake = 0;
+    }
+    /* 3. read or write mode */
+    int mode = write_mode_next(c, ch);
+    if (mode != ch->write_mode) {
+        ch->write_mode = mode;
+        ch->sched_wake = 0;
+    }
+    /* 4. one command: actq first, then refresh, then the mode's queue. While nothing
+     * changed since the last scan found nothing issuable, skip the scan. */
+    if (now < ch->sched_wake && !c->exhaustive)
+        return;
+    int64_t lo = INT64_MAX;
+    dqueue *q = &ch->actq;
+    int i = pick(c, ch, q, 0, &lo);
+    int cmd = -1;
+    if (i >= 0) {
+        cmd = first_cmd(c, ch, &q->v[i]);
+        if (earliest(c, ch, &q->v[i], cmd) > now)
+            i = -1;
+    }
+    if (i < 0) {
+        q = ch->otherq.n ? &ch->otherq : ch->write_mode ? &ch->writeq : &ch->readq;
+        i = pick(c, ch, q, 1, &lo);
+        if (i >= 0) {
+            cmd = first_cmd(c, ch, &q->v[i]);
+            if (earliest(c, ch, &q->v[i], cmd) > now)
+                i = -1;
+        }
+        if (i < 0) { /* full scans of both queues: lo bounds the next issue */
+            ch->sched_wake = lo;
+            return;
+        }
+    }
+    ch->sched_wake = 0;
+    dreq *r = &q->v[i];
+    if (r->first && r->type != REQ_REFRESH) {
+        r->first = 0;
+        const dbank *b = bank_of(c, ch, r);
+        if (b->open_row >= 0 && (uint32_t)b->open_row == r->row)
+            ch->st.row_hits++;
+        else if (b->open_row >= 0)
+            ch->st.row_conflicts++;
+        else
+            ch->st.row_misses++;
+    }
+    issue(c, chi, cmd, r->rank, r->bank, r->row);
+    const int final_cmd = r->type == REQ_READ ? DRAM_RD : r->type == REQ_WRITE ? DRAM_WR : DRAM_REF;
+    if (cmd != final_cmd) {
+        if (cmd == DRAM_ACT) { /* promote to actq (to its back, also from actq itself) */
+            dreq moved = *r;
+            q_erase(q, i);
+            q_push(&ch->actq, &moved);
+        }
+        return;
+    }
+    dreq done = *r;
+    q_erase(q, i);
+    if (done.type == REQ_READ) {
+        done.depart = now + c->spec->read_latency;
+        pend_push(ch, &done);
+    } else if (done.type == REQ_WRITE) {
+        ch->st.writes_done++;
+        if (c->done)
+            c->done(c->done_user, done.addr, done.tag, true, now - done.arrive);
+    }
+}
+
+void dram_tick(dram_ctrl *c)
+{
+    c->clk++;
+    for (int i = 0; i < c->nch; i++)
+        chan_tick(c, i);
+}
+
+int dram_pending(const dram_ctrl *c)
+{
+    int n = 0;
+    for (int i = 0; i < c->nch; i++) {
+        const dchan *ch = &c->ch[i];
+        n += ch->readq.n + ch->writeq.n + ch->actq.n + ch->otherq.n + ch->pend_n;
+    }
+    return n;
+}
+
+static int64_t chan_next_event(const dram_ctrl *c, dchan *ch)
+{
+    const int64_t soon = c->clk + 1;
+    if (ch->sched_wake == 0 || write_mode_next(c, ch) != ch->write_mode)
+        return soon;
+    int64_t t = ch->refreshed + c->spec->refresh_interval;
+    if (ch->pend_n && ch->pend[ch->pend_head].depart < t)
+        t = ch->pend[ch->pend_head].depart;
+    if (ch->sched_wake < t)
+        t = ch->sched_wake;
+    return t < soon ? soon : t;
+}
+
+int64_t dram_next_event(const dram_ctrl *c)
+{
+    int64_t t = INT64_MAX;
+    for (int i = 0; i < c->nch; i++) {
+        int64_t e = chan_next_event(c, &c->ch[i]);
+        if (e < t)
+            t = e;
+        if (t == c->clk + 1)
+            break;
+    }
+    return t;
+}
+
+void dram_set_exhaustive(dram_ctrl *c, bool on) { c->exhaustive = on; }
+
+int64_t dram_skip(dram_ctrl *c)
+{
+    if (c->exhaustive)
+        return 0;
+    int64_t t = dram_next_event(c);
+    int64_t k = t - 1 - c->clk;
+    if (k <= 0)
+        return 0;
+    for (int i = 0; i < c->nch; i++) {
+        dchan *ch = &c->ch[i];
+        ch->st.queue_occupancy_sum += (uint64_t)k * (uint64_t)(ch->readq.n + ch->writeq.n + ch->pend_n);
+    }
+    c->clk += k;
+    return k;
+}
+
+void dram_chan_stats_get(const dram_ctrl *c, int channel, dram_chan_stats *out)
+{
+    const dchan *ch = &c->ch[channel];
+    *out = ch->st;
+    for (int r = 0; r < c->nrank; r++)
+        if (ch->ranks[r].nopen)
+            out->open_cycles += (uint64_t)(c->clk - ch->ranks[r].open_since);
+}

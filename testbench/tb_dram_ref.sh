@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# tb_dram_ref — rtdram against the reference DRAM results in ../shared/ref/dram
+# (Ramulator v1 + DRAMPower 4.1), through scripts/dram_compare.py. Skips cleanly
+# when the reference folder is absent.
+#  release:   the full comparison of config A (5 traces, 2-4 M requests each):
+#             time within 3 %, row hits within 2 points, commands within 3 %,
+#             energy within 5 %, zero timing violations.
+#  sanitized: (RTSIM_TB_SANITIZED) 20000-line prefixes of the same traces through
+#             the ASan/UBSan rtdram with the timing checker, and fast == exhaustive.
+set -u
+bin=${RTSIM_BIN:?}/rtdram
+tmp=${RTSIM_TMP:-/tmp}
+cmp=scripts/dram_compare.py
+if ! python3 $cmp --find-ref >/dev/null 2>&1; then
+  echo "SKIP dram_ref_compare: ../shared/ref/dram not found"
+  exit 0
+fi
+if [ -z "${RTSIM_TB_SANITIZED:-}" ]; then
+  out=$(python3 $cmp --rtdram "$bin" 2>&1); rc=$?
+  if [ $rc -eq 0 ]; then
+    echo "PASS dram_ref_compare_config_A"
+  else
+    echo "FAIL dram_ref_compare_config_A: exit $rc: $(echo "$out" | grep -E ' NO$|dram_compare:' | head -3 | tr '\n' ';')"
+    echo "$out" >&2
+  fi
+  exit 0
+fi
+traces=$(python3 $cmp --generate-only 2>/dev/null | tail -1)
+if [ ! -d "$traces" ]; then
+  echo "FAIL dram_ref_prefixes: could not generate traces"
+  exit 0
+fi
+for t in a_seq b_rand64 c_rand128 d_mix7030 e_rowloc; do
+  p=$tmp/dram_ref_$t.trace
+  head -n 20000 "$traces/$t.il32.trace" > "$p"
+  fast=$("$bin" "$p" --json --check 2>"$p.err"); rc=$?
+  slow=$("$bin" "$p" --json --exhaustive 2>/dev/null)
+  if [ $rc -ne 0 ]; then
+    echo "FAIL dram_ref_prefix_$t: rtdram exit $rc: $(head -2 "$p.err" | tr '\n' ';')"
+  elif [ "$fast" != "$slow" ]; then
+    echo "FAIL dram_ref_prefix_$t: fast and exhaustive modes differ"
+  elif ! echo "$fast" | python3 -c 'import json,sys; d=json.load(sys.stdin); sys.exit(0 if d["n_rd"]+d["n_wr"]+d["reads_forwarded"]==20000 else 1)'; then
+    echo "FAIL dram_ref_prefix_$t: not all 20000 requests served: $fast"
+  else
+    echo "PASS dram_ref_prefix_$t"
+  fi
+  rm -f "$p" "$p.err"
+done

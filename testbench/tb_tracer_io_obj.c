@@ -211,6 +211,18 @@ static void test_errors(void)
             rt_mesh_free(&m);
         tb_end();
     }
+    tb_begin("obj_error_directory_instead_of_file");
+    {
+        rt_mesh d;
+        char e2[512] = "";
+        const char *t = getenv("RTSIM_TMP");
+        bool ok = rt_obj_load(t && *t ? t : "/tmp", &d, e2, sizeof e2);
+        TB_CHECK(!ok && strstr(e2, t && *t ? t : "/tmp") && (strstr(e2, "directory") || strstr(e2, "read error")),
+                 "message: %s", e2);
+        if (ok)
+            rt_mesh_free(&d);
+    }
+    tb_end();
     tb_begin("obj_error_missing_file");
     rt_mesh m;
     char err[512] = "";

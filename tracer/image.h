@@ -46,6 +46,12 @@ bool rt_image_write_heatmap(const char *path, const float *values, uint32_t widt
 bool rt_image_read_rgb(const char *path, float **rgb, uint32_t *width, uint32_t *height,
                        char *err, size_t errlen);
 
+/* Reads the channel called `channel` (e.g. "value" of an .exr heatmap, or
+ * "R") as one float per pixel (malloc'ed, caller frees); false with a
+ * message listing the channels when there is none of that name. */
+bool rt_image_read_channel(const char *path, const char *channel, float **values, uint32_t *width,
+                           uint32_t *height, char *err, size_t errlen);
+
 /* Reads the ImageDescription metadata into desc (empty when absent). */
 bool rt_image_read_description(const char *path, char *desc, size_t desclen,
                                char *err, size_t errlen);

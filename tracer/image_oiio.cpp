@@ -176,6 +176,45 @@ extern "C" bool rt_image_read_rgb(const char *path, float **rgb, uint32_t *width
     return true;
 }
 
+extern "C" bool rt_image_read_channel(const char *path, const char *channel, float **values,
+                                      uint32_t *width, uint32_t *height, char *err, size_t errlen)
+{
+    *values = nullptr;
+    auto in = ImageInput::open(path);
+    if (!in) {
+        rt_scene_errorf(err, errlen, "%s: cannot read image: %s", path, OIIO::geterror().c_str());
+        return false;
+    }
+    const ImageSpec &spec = in->spec();
+    int c = spec.channelindex(channel);
+    if (c < 0) {
+        std::string names;
+        for (const auto &n : spec.channelnames)
+            names += (names.empty() ? "" : ", ") + n;
+        rt_scene_errorf(err, errlen, "%s: no channel '%s'; channels: %s", path, channel, names.c_str());
+        in->close();
+        return false;
+    }
+    size_t n = size_t(spec.width) * spec.height;
+    float *out = static_cast<float *>(std::malloc((n ? n : 1) * sizeof(float)));
+    if (!out) {
+        rt_scene_errorf(err, errlen, "%s: out of memory", path);
+        in->close();
+        return false;
+    }
+    if (!in->read_image(0, 0, c, c + 1, TypeDesc::FLOAT, out)) {
+        rt_scene_errorf(err, errlen, "%s: cannot read channel %s: %s", path, channel, in->geterror().c_str());
+        std::free(out);
+        in->close();
+        return false;
+    }
+    in->close();
+    *values = out;
+    *width = uint32_t(spec.width);
+    *height = uint32_t(spec.height);
+    return true;
+}
+
 extern "C" bool rt_image_read_description(const char *path, char *desc, size_t desclen, char *err,
                                           size_t errlen)
 {

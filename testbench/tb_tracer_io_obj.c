@@ -191,7 +191,7 @@ static void test_errors(void)
         {"obj_error_bad_face_token", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 two 3\n", "t.obj:4:",
          "bad face vertex 'two'"},
         {"obj_error_forward_reference", "f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n", "t.obj:1:",
-         "out of range"},
+         "no vertex defined before this line"},
         {"obj_error_lone_v", "v 0 0 0\nv\n", "t.obj:2:", "0 coordinate"},
         {"obj_error_lone_f", "v 0 0 0\nf\r\n", "t.obj:2:", "face has 0"},
         {"obj_error_no_faces", "v 0 0 0\n", "t.obj", "no faces"},

@@ -28,7 +28,7 @@ bool rt_camera_init(rt_camera *cam, const rt_view *view, uint32_t width, uint32_
                         width, height);
         return false;
     }
-    if (!rt_view_validate(view, "view", 0, err, errlen))
+    if (!rt_view_validate(view, "camera", 0, err, errlen))
         return false;
     cam->eye[0] = view->eye.x, cam->eye[1] = view->eye.y, cam->eye[2] = view->eye.z;
     cam->forward[0] = (double)view->at.x - view->eye.x;

@@ -154,6 +154,13 @@ bool rt_obj_parse(const char *text, size_t len, const char *file, rt_mesh *out, 
                 for (int k = 0; k < 3; k++) {
                     uint32_t ix;
                     if (have[k] && !resolve_index(idx[k], count[k], &ix)) {
+                        if (count[k] == 0) {
+                            rt_scene_errorf(err, errlen,
+                                            "%s:%lu: %s index %lld refers to none: no %s defined "
+                                            "before this line",
+                                            file, line, what[k], idx[k], what[k]);
+                            goto fail;
+                        }
                         rt_scene_errorf(err, errlen,
                                         "%s:%lu: %s index %lld out of range; %llu defined so far "
                                         "(allowed 1..%llu or -1..-%llu)",

@@ -122,6 +122,9 @@ unsigned char *rt_read_file_gz(const char *path, size_t *len, char *err, size_t 
         int code;
         const char *msg = gzerror(f, &code);
         if (code != Z_OK) {
+            size_t pl = strlen(path);   /* zlib prefixes its message with the path */
+            if (strncmp(msg, path, pl) == 0 && msg[pl] == ':' && msg[pl + 1] == ' ')
+                msg += pl + 2;
             /* zlib reports a cut-off gzip stream as Z_BUF_ERROR "unexpected end of file". */
             rt_scene_errorf(err, errlen, "%s: corrupt or truncated gzip data after %zu bytes: %s",
                             path, n, msg);

@@ -150,6 +150,20 @@ static void test_gzip(void)
         TB_CHECK(ok, "gz: %s", err);
         if (ok)
             TB_CHECK(rt_mesh_hash(&a) == rt_mesh_hash(&b) && a.ntris == 2, "gz mesh differs");
+        /* A corrupt trailer (ISIZE claims ~4 GB) is reported, not trusted. */
+        {
+            FILE *g = fopen(gz, "r+b");
+            bool patched = g && fseek(g, -4, SEEK_END) == 0 && fwrite("\xf0\xff\xff\xff", 1, 4, g) == 4;
+            if (g)
+                fclose(g);
+            rt_mesh c;
+            bool ok2 = patched && rt_obj_load(gz, &c, err, sizeof err);
+            TB_CHECK(patched && !ok2 && strstr(err, gz) && strstr(err, "corrupt"), "bad ISIZE: %s",
+                     ok2 ? "(loaded)" : err);
+            if (ok2)
+                rt_mesh_free(&c);
+            write_file(gz, text, strlen(text), true);
+        }
         /* A gzip file cut in half must be reported, not silently shortened. */
         FILE *f = fopen(gz, "rb");
         unsigned char buf[512];

@@ -67,9 +67,14 @@ unsigned char *rt_read_file_gz(const char *path, size_t *len, char *err, size_t 
     FILE *raw = fopen(path, "rb");
     if (raw) {
         unsigned char t[4];
-        if (fseek(raw, -4, SEEK_END) == 0 && fread(t, 1, 4, raw) == 4) {
+        long csize = fseek(raw, 0, SEEK_END) == 0 ? ftell(raw) : -1;
+        if (csize >= 4 && fseek(raw, -4, SEEK_END) == 0 && fread(t, 1, 4, raw) == 4) {
             size_t isize = (size_t)t[0] | (size_t)t[1] << 8 | (size_t)t[2] << 16 | (size_t)t[3] << 24;
-            if (isize > hint && isize < ((size_t)1 << 32) - (1u << 21))
+            /* Trust it only up to deflate's maximum ratio of about 1032:1
+             * (zlib technical details, zlib.net/zlib_tech.html): a corrupt
+             * trailer must not cause a huge allocation. */
+            if (isize > hint && isize < ((size_t)1 << 32) - (1u << 21) &&
+                (uint64_t)isize <= (uint64_t)csize * 1032u)
                 hint = isize + (1u << 20);   /* + room so the final read sees EOF */
         }
         fclose(raw);
@@ -83,6 +88,10 @@ unsigned char *rt_read_file_gz(const char *path, size_t *len, char *err, size_t 
     gzbuffer(f, 1u << 18);   /* 256 KiB: fewer read() calls on big scenes */
     size_t cap = hint, n = 0;
     unsigned char *buf = malloc(cap + 1);
+    if (!buf && cap > (1u << 20)) {   /* the hint was too optimistic: grow instead */
+        cap = 1u << 20;
+        buf = malloc(cap + 1);
+    }
     if (!buf) {
         gzclose(f);
         rt_scene_errorf(err, errlen, "%s: out of memory", path);

@@ -116,25 +116,23 @@ unsigned char *rt_read_file_gz(const char *path, size_t *len, char *err, size_t 
         if (want > (1u << 30))
             want = 1u << 30;
         int got = gzread(f, buf + n, (unsigned)want);
-        if (got < 0) {
-            int code;
-            const char *msg = gzerror(f, &code);
-            rt_scene_errorf(err, errlen, "%s: read error: %s",
-                            path, code == Z_ERRNO ? strerror(errno) : msg);
-            goto fail;
-        }
-        if (got == 0)
+        if (got <= 0)
             break;
         n += (size_t)got;
     }
     {
         int code;
         const char *msg = gzerror(f, &code);
+        if (code == Z_ERRNO) {
+            rt_scene_errorf(err, errlen, "%s: read error: %s", path, strerror(errno));
+            goto fail;
+        }
         if (code != Z_OK) {
             size_t pl = strlen(path);   /* zlib prefixes its message with the path */
             if (strncmp(msg, path, pl) == 0 && msg[pl] == ':' && msg[pl + 1] == ' ')
                 msg += pl + 2;
-            /* zlib reports a cut-off gzip stream as Z_BUF_ERROR "unexpected end of file". */
+            /* zlib reports a cut-off stream as Z_BUF_ERROR "unexpected end of
+             * file", a bad trailer as Z_DATA_ERROR "incorrect length check". */
             rt_scene_errorf(err, errlen, "%s: corrupt or truncated gzip data after %zu bytes: %s",
                             path, n, msg);
             goto fail;

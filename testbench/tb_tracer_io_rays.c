@@ -10,6 +10,7 @@
 #include "tracer/bounce.h"
 #include "tracer/builtin.h"
 #include "tracer/camera.h"
+#include "tracer/det_math.h"
 #include "tracer/rng.h"
 #include "tracer/shade.h"
 
@@ -60,6 +61,22 @@ static void test_rng(void)
 }
 
 static double dot3(rt_vec3 a, rt_vec3 b) { return (double)a.x * b.x + (double)a.y * b.y + (double)a.z * b.z; }
+
+static void test_det_math(void)
+{
+    tb_begin("det_math_matches_libm");
+    double worst = 0;
+    for (int i = -4000; i <= 4000; i++) {
+        double x = i * 0.0251327;   /* about -100 .. 100 */
+        worst = fmax(worst, fabs(rt_det_sin(x) - sin(x)));
+        worst = fmax(worst, fabs(rt_det_cos(x) - cos(x)));
+        if (fabs(cos(x)) > 0.1)
+            worst = fmax(worst, fabs(rt_det_tan(x) - tan(x)) * fabs(cos(x)) * fabs(cos(x)));
+    }
+    TB_CHECK(worst < 1e-12, "max error %g (documented bound 1e-12)", worst);
+    TB_CHECK(rt_det_sqrt(2.0) == sqrt(2.0) && rt_det_sqrt(-1.0) == 0, "sqrt");
+    tb_end();
+}
 
 static void test_camera(void)
 {
@@ -299,6 +316,7 @@ static void test_shade(void)
 int main(void)
 {
     test_rng();
+    test_det_math();
     test_camera();
     test_bounce();
     test_no_self_hits();

@@ -34,6 +34,10 @@ bool rt_image_write_rgb(const char *path, const float *rgb, uint32_t width, uint
  * (non-finite v -> magenta, hi <= lo -> t = 0). rgb[3] in [0,1]. */
 void rt_colormap_eval(rt_colormap cmap, float v, float lo, float hi, float rgb[3]);
 
+/* Smallest and largest finite value of v[0..n) (both 0 when there is none):
+ * the usual [lo, hi] of a heatmap. */
+void rt_image_value_range(const float *v, size_t n, float *lo, float *hi);
+
 /* Writes a heatmap of one scalar per pixel mapped through cmap over [lo, hi].
  * The range and map are stored in the image's ImageDescription metadata; an
  * .exr also gets a fourth channel "value" holding the raw scalars. */

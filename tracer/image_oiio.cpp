@@ -118,6 +118,23 @@ extern "C" void rt_colormap_eval(rt_colormap cmap, float v, float lo, float hi, 
         rgb[c] = float(((1 - f) * viridis_stops[i][c] + f * viridis_stops[i + 1][c]) / 255.0);
 }
 
+extern "C" void rt_image_value_range(const float *v, size_t n, float *lo, float *hi)
+{
+    bool any = false;
+    float a = 0, b = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (!std::isfinite(v[i]))
+            continue;
+        if (!any || v[i] < a)
+            a = v[i];
+        if (!any || v[i] > b)
+            b = v[i];
+        any = true;
+    }
+    *lo = a;
+    *hi = b;
+}
+
 extern "C" bool rt_image_write_heatmap(const char *path, const float *values, uint32_t width,
                                        uint32_t height, float lo, float hi, rt_colormap cmap,
                                        char *err, size_t errlen)

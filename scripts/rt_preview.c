@@ -170,6 +170,8 @@ int main(int argc, char **argv)
         else
             return usage("unknown option");
     }
+    if (!rt_image_format_supported(argv[2]))
+        return usage("OUT must end .png or .exr");
     rt_scene s;
     if (!rt_scene_load(argv[1], &s, err, sizeof err))
         return usage(err);

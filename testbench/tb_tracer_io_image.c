@@ -105,6 +105,19 @@ static void test_heatmap(void)
         TB_CHECK(back[0] == 0 && back[3 * (W - 1)] == 1 && fabsf(back[3 * 4] - 0.5f) < 1e-6f, "gray ramp");
         free(back);
     }
+    float *raw;
+    if (TB_CHECK(rt_image_read_channel(at("hm.exr"), "value", &raw, &w, &h, err, sizeof err), "%s", err)) {
+        TB_CHECK(w == W && h == H && raw[3] == v[3] && raw[W - 1] == 20 && isnan(raw[W]), "raw values kept");
+        free(raw);
+    }
+    TB_CHECK(!rt_image_read_channel(at("hm.exr"), "Z", &raw, &w, &h, err, sizeof err) && strstr(err, "R, G, B, value"),
+             "missing channel: %s", err);
+    float lo, hi;
+    rt_image_value_range(v, W * H, &lo, &hi);
+    TB_CHECK(lo == 10 && hi == 20, "range of values with a NaN: [%g, %g]", (double)lo, (double)hi);
+    float nans[2] = {NAN, INFINITY};
+    rt_image_value_range(nans, 2, &lo, &hi);
+    TB_CHECK(lo == 0 && hi == 0, "no finite value -> [0, 0]");
     float rgb[3];
     rt_colormap_eval(RT_COLORMAP_GRAY, 5, 10, 20, rgb);
     TB_CHECK(rgb[0] == 0, "below range clamps");

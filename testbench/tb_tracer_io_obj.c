@@ -68,6 +68,22 @@ static void test_negative_and_polygons(void)
     tb_end();
 }
 
+static void test_forward_refs_and_bom(void)
+{
+    tb_begin("obj_forward_references_and_byte_order_mark");
+    const char *text = "\xef\xbb\xbfv 0 0 0\nf 1 2 3\nf 1/2 3/1 4/2\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 1\n";
+    rt_mesh m;
+    char err[256] = "";
+    bool ok = parse(text, &m, err, sizeof err);
+    if (TB_CHECK(ok, "parse failed: %s", err)) {
+        TB_EQ_INT(m.nverts, 4);
+        TB_CHECK(tri_is(&m, 0, 0, 1, 2) && tri_is(&m, 1, 0, 2, 3), "triangles");
+        TB_CHECK(m.verts[0].x == 0 && m.verts[3].y == 1, "BOM skipped, first vertex read");
+    }
+    rt_mesh_free(&m);
+    tb_end();
+}
+
 static void test_comments_crlf(void)
 {
     tb_begin("obj_comments_crlf_blank_lines_ignored_statements");
@@ -150,6 +166,20 @@ static void test_gzip(void)
         TB_CHECK(ok, "gz: %s", err);
         if (ok)
             TB_CHECK(rt_mesh_hash(&a) == rt_mesh_hash(&b) && a.ntris == 2, "gz mesh differs");
+        /* A corrupt trailer (ISIZE claims ~4 GB) is reported, not trusted. */
+        {
+            FILE *g = fopen(gz, "r+b");
+            bool patched = g && fseek(g, -4, SEEK_END) == 0 && fwrite("\xf0\xff\xff\xff", 1, 4, g) == 4;
+            if (g)
+                fclose(g);
+            rt_mesh c;
+            bool ok2 = patched && rt_obj_load(gz, &c, err, sizeof err);
+            TB_CHECK(patched && !ok2 && strstr(err, gz) && strstr(err, "corrupt"), "bad ISIZE: %s",
+                     ok2 ? "(loaded)" : err);
+            if (ok2)
+                rt_mesh_free(&c);
+            write_file(gz, text, strlen(text), true);
+        }
         /* A gzip file cut in half must be reported, not silently shortened. */
         FILE *f = fopen(gz, "rb");
         unsigned char buf[512];
@@ -180,7 +210,7 @@ static void test_errors(void)
         {"obj_error_nan", "v 1 nan 3\n", "t.obj:1:", "bad number"},
         {"obj_error_index_out_of_range", "v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 4\n", "t.obj:5:",
          "vertex index 4 out of range"},
-        {"obj_error_index_zero", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "t.obj:4:", "out of range"},
+        {"obj_error_index_zero", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "t.obj:4:", "index 0 is invalid"},
         {"obj_error_negative_out_of_range", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf -1 -2 -4\n", "t.obj:4:",
          "out of range"},
         {"obj_error_texcoord_out_of_range", "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n",
@@ -190,8 +220,9 @@ static void test_errors(void)
         {"obj_error_two_vertex_face", "v 0 0 0\nv 1 0 0\nf 1 2\n", "t.obj:3:", "at least 3"},
         {"obj_error_bad_face_token", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 two 3\n", "t.obj:4:",
          "bad face vertex 'two'"},
-        {"obj_error_forward_reference", "f 1 2 3\nv 0 0 0\nv 1 0 0\nv 0 1 0\n", "t.obj:1:",
-         "out of range"},
+        {"obj_error_forward_reference_beyond_file", "f 1 2 3\nf 2 9 1\nv 0 0 0\nv 1 0 0\nv 0 1 0\n", "t.obj:2:",
+         "vertex index 9 out of range; the file defines 3"},
+        {"obj_error_negative_before_any_vertex", "f -1 -2 -3\nv 0 0 0\n", "t.obj:1:", "0 defined so far"},
         {"obj_error_lone_v", "v 0 0 0\nv\n", "t.obj:2:", "0 coordinate"},
         {"obj_error_lone_f", "v 0 0 0\nf\r\n", "t.obj:2:", "face has 0"},
         {"obj_error_no_faces", "v 0 0 0\n", "t.obj", "no faces"},
@@ -211,6 +242,18 @@ static void test_errors(void)
             rt_mesh_free(&m);
         tb_end();
     }
+    tb_begin("obj_error_directory_instead_of_file");
+    {
+        rt_mesh d;
+        char e2[512] = "";
+        const char *t = getenv("RTSIM_TMP");
+        bool ok = rt_obj_load(t && *t ? t : "/tmp", &d, e2, sizeof e2);
+        TB_CHECK(!ok && strstr(e2, t && *t ? t : "/tmp") && (strstr(e2, "directory") || strstr(e2, "read error")),
+                 "message: %s", e2);
+        if (ok)
+            rt_mesh_free(&d);
+    }
+    tb_end();
     tb_begin("obj_error_missing_file");
     rt_mesh m;
     char err[512] = "";
@@ -267,6 +310,7 @@ int main(void)
     test_fuzz();
     test_face_forms();
     test_negative_and_polygons();
+    test_forward_refs_and_bom();
     test_comments_crlf();
     test_numbers();
     test_gzip();

@@ -211,6 +211,22 @@ static void test_errors(void)
     }
     tb_end();
 
+    tb_begin("ply_error_huge_list_count_refused_before_allocating");
+    {
+        static buf b;
+        b = good;
+        b.n = face1 + 2;   /* keep face 1's flags and count byte */
+        b.d[face1 + 1] = 255;
+        rt_mesh m;
+        char err[512] = "";
+        bool ok = rt_ply_parse(b.d, b.n, "t.ply", &m, err, sizeof err);
+        TB_CHECK(!ok && strstr(err, "element face index 1") && strstr(err, "runs past the end"), "message: %s",
+                 ok ? "(accepted)" : err);
+        if (ok)
+            rt_mesh_free(&m);
+    }
+    tb_end();
+
     tb_begin("ply_error_count_bigger_than_data");
     {
         static buf b;

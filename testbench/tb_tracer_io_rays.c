@@ -8,7 +8,9 @@
 
 #include "testbench/tb.h"
 #include "tracer/bounce.h"
+#include "tracer/builtin.h"
 #include "tracer/camera.h"
+#include "tracer/det_math.h"
 #include "tracer/rng.h"
 #include "tracer/shade.h"
 
@@ -59,6 +61,22 @@ static void test_rng(void)
 }
 
 static double dot3(rt_vec3 a, rt_vec3 b) { return (double)a.x * b.x + (double)a.y * b.y + (double)a.z * b.z; }
+
+static void test_det_math(void)
+{
+    tb_begin("det_math_matches_libm");
+    double worst = 0;
+    for (int i = -4000; i <= 4000; i++) {
+        double x = i * 0.0251327;   /* about -100 .. 100 */
+        worst = fmax(worst, fabs(rt_det_sin(x) - sin(x)));
+        worst = fmax(worst, fabs(rt_det_cos(x) - cos(x)));
+        if (fabs(cos(x)) > 0.1)
+            worst = fmax(worst, fabs(rt_det_tan(x) - tan(x)) * fabs(cos(x)) * fabs(cos(x)));
+    }
+    TB_CHECK(worst < 1e-12, "max error %g (documented bound 1e-12)", worst);
+    TB_CHECK(rt_det_sqrt(2.0) == sqrt(2.0) && rt_det_sqrt(-1.0) == 0, "sqrt");
+    tb_end();
+}
 
 static void test_camera(void)
 {
@@ -212,6 +230,69 @@ static void test_bounce(void)
     tb_end();
 }
 
+/* Closest hit by brute force in float (Moeller-Trumbore, as a float
+ * traversal would compute it), t > tmin: test-only. */
+static rt_hit closest(const rt_mesh *m, const rt_ray *r)
+{
+    rt_hit h = {r->tmax, 0, 0, RT_NO_HIT};
+    for (uint32_t t = 0; t < m->ntris; t++) {
+        const rt_vec3 *a = &m->verts[m->tris[3 * t]], *b = &m->verts[m->tris[3 * t + 1]],
+                      *c = &m->verts[m->tris[3 * t + 2]];
+        float e1[3] = {b->x - a->x, b->y - a->y, b->z - a->z}, e2[3] = {c->x - a->x, c->y - a->y, c->z - a->z};
+        float d[3] = {r->dir.x, r->dir.y, r->dir.z};
+        float p[3] = {d[1] * e2[2] - d[2] * e2[1], d[2] * e2[0] - d[0] * e2[2], d[0] * e2[1] - d[1] * e2[0]};
+        float det = e1[0] * p[0] + e1[1] * p[1] + e1[2] * p[2];
+        if (det == 0)
+            continue;
+        float inv = 1.0f / det;
+        float sv[3] = {r->org.x - a->x, r->org.y - a->y, r->org.z - a->z};
+        float u = (sv[0] * p[0] + sv[1] * p[1] + sv[2] * p[2]) * inv;
+        if (u < 0 || u > 1)
+            continue;
+        float q[3] = {sv[1] * e1[2] - sv[2] * e1[1], sv[2] * e1[0] - sv[0] * e1[2], sv[0] * e1[1] - sv[1] * e1[0]};
+        float v = (d[0] * q[0] + d[1] * q[1] + d[2] * q[2]) * inv;
+        if (v < 0 || u + v > 1)
+            continue;
+        float tt = (e2[0] * q[0] + e2[1] * q[1] + e2[2] * q[2]) * inv;
+        if (tt > r->tmin && tt < h.t)
+            h.t = tt, h.u = u, h.v = v, h.prim = t;
+    }
+    return h;
+}
+
+/* The offset of bounce.h keeps bounce rays (tmin = 0) from re-hitting the
+ * triangle they leave, on every built-in scene and its default view. */
+static void test_no_self_hits(void)
+{
+    tb_begin("bounce_no_self_hits_on_builtin_scenes");
+    for (unsigned i = 0; i < rt_builtin_count(); i++) {
+        rt_mesh m;
+        rt_views vs;
+        char err[256] = "";
+        if (!TB_CHECK(rt_builtin_generate(rt_builtin_name(i), &m, &vs, err, sizeof err), "%s", err))
+            continue;
+        rt_camera cam;
+        uint32_t w = tb_is_sanitized() ? 12 : 24, h = w * 9 / 16, bounces = 0, self = 0;
+        rt_camera_init(&cam, &vs.v[0], w, h, err, sizeof err);
+        for (uint32_t py = 0; py < h; py++)
+            for (uint32_t px = 0; px < w; px++) {
+                rt_ray r = rt_camera_primary_ray(&cam, px, py), next;
+                rt_hit hit = closest(&m, &r);
+                while (rt_bounce_ray(&m, &r, &hit, 3, 2, &next)) {
+                    rt_hit nh = closest(&m, &next);
+                    bounces++;
+                    self += nh.prim == hit.prim;   /* a plane cannot be re-hit */
+                    r = next, hit = nh;
+                }
+            }
+        TB_CHECK(bounces > w * h / 4, "%s: only %u bounce rays", rt_builtin_name(i), bounces);
+        TB_CHECK(self == 0, "%s: %u of %u bounce rays hit their own triangle", rt_builtin_name(i), self, bounces);
+        rt_mesh_free(&m);
+        rt_views_free(&vs);
+    }
+    tb_end();
+}
+
 static void test_shade(void)
 {
     tb_begin("shade_headlight_sky_and_path_accumulation");
@@ -235,8 +316,10 @@ static void test_shade(void)
 int main(void)
 {
     test_rng();
+    test_det_math();
     test_camera();
     test_bounce();
+    test_no_self_hits();
     test_shade();
     return tb_finish();
 }

@@ -35,8 +35,8 @@ static const char *at(const char *rel)
 
 static void test_views_valid(void)
 {
-    tb_begin("views_parse_valid_with_comments_crlf");
-    const char *text = "# cameras\r\n\r\nview front eye -0.21 0.16 0.235 at -0.0168 0.104 -0.0015 up 0 1 0 fov 36\r\n"
+    tb_begin("views_parse_valid_with_bom_comments_crlf");
+    const char *text = "\xef\xbb\xbf# cameras\r\n\r\nview front eye -0.21 0.16 0.235 at -0.0168 0.104 -0.0015 up 0 1 0 fov 36\r\n"
                        "view side_2  eye 1e1 0 0 at 0 0 0 up 0 1 0 fov 179.5\n";
     rt_views vs;
     char err[512] = "";
@@ -108,7 +108,7 @@ static void test_scene_files(void)
                  write_text("extra.txt", "view e1 eye 0 0 5 at 0 0 0 up 0 1 0 fov 50\n") &&
                  write_text("s1.scene", "# interior from the top\nmesh interior\n\n"
                                         "view top eye 0 30 0.5 at 0 0 0 up 0 0 -1 fov 50\r\n") &&
-                 write_text("s2.scene", "mesh sub/m.obj\n") &&
+                 write_text("s2.scene", "\xef\xbb\xbfmesh sub/m.obj\n") &&
                  write_text("s3.scene", "mesh sub/m.obj\nviews extra.txt\nview e2 eye 0 0 -5 at 0 0 0 up 0 1 0 fov 50\n") &&
                  write_text("s4.scene", "mesh builtin:city\n");
     char err[1024] = "";

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "tracer/camera.h"
+#include "tracer/det_math.h"
 #include "tracer/rng.h"
 
 rt_vec3 rt_cosine_hemisphere(rt_vec3 n, float u1, float u2)
@@ -18,7 +19,7 @@ rt_vec3 rt_cosine_hemisphere(rt_vec3 n, float u1, float u2)
     } else {
         r = b, phi = (M_PI / 2.0) - (M_PI / 4.0) * (a / b);
     }
-    double x = r * cos(phi), y = r * sin(phi);
+    double x = r * rt_det_cos(phi), y = r * rt_det_sin(phi);
     double z = sqrt(fmax(0.0, 1.0 - x * x - y * y));   /* Malley: lift disk to hemisphere */
     /* Orthonormal basis around n (Duff et al., "Building an Orthonormal Basis,
      * Revisited", JCGT 2017). */

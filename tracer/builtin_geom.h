@@ -2,9 +2,8 @@
  *
  * Contract: a growing mesh whose appends never fail visibly; an allocation
  * failure sets `oom` and later appends do nothing (checked once at the end).
- * rt_det_sin/rt_det_cos use only + - * / on doubles (no libm), so generated
- * coordinates are bit-for-bit identical on every IEEE-754 platform; their
- * error is below 1e-10 for any argument used here (|x| < 1e6). */
+ * Trigonometry comes from det_math.h (no libm), so generated coordinates are
+ * bit-for-bit identical on every IEEE-754 platform. */
 #ifndef RTSIM_TRACER_BUILTIN_GEOM_H
 #define RTSIM_TRACER_BUILTIN_GEOM_H
 
@@ -12,6 +11,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "tracer/det_math.h"
 #include "tracer/mesh.h"
 #include "tracer/view.h"
 
@@ -23,9 +23,6 @@ typedef struct rt_mesh_builder {
     bool oom;
 } rt_mesh_builder;
 
-double rt_det_sin(double x);
-double rt_det_cos(double x);
-double rt_det_sqrt(double x);   /* Newton iteration from a fixed start; exact to 1 ulp */
 
 uint32_t rt_mb_vert(rt_mesh_builder *b, double x, double y, double z);
 void rt_mb_tri(rt_mesh_builder *b, uint32_t a, uint32_t c, uint32_t d);

@@ -11,6 +11,7 @@ enum { COLS = 10 };                       /* columns per colonnade row */
 static const double HALL_X = 20.0;        /* half length */
 static const double HALL_Z = 10.0;        /* half width incl. aisles */
 static const double ROW_Z = 5.0;          /* colonnade rows at z = +-ROW_Z */
+static const double EDGE = 4.3;           /* inner edge of the gallery floors, |z| */
 static const double STOREY = 8.0;         /* height of the gallery floor */
 static const double TOP = 16.0;           /* wall top */
 
@@ -85,14 +86,17 @@ void rt_builtin_interior(rt_mesh_builder *b, rt_views *views)
     rt_mb_box(b, HALL_X, 0, -HALL_Z - 1, HALL_X + 1, TOP, HALL_Z + 1);
     rt_mb_box(b, -HALL_X, 0, -HALL_Z - 1, HALL_X, TOP, -HALL_Z);
     rt_mb_box(b, -HALL_X, 0, HALL_Z, HALL_X, TOP, HALL_Z + 1);
-    /* Aisle ceilings = gallery floors; gallery roofs over the upper aisles. */
+    /* Aisle ceilings = gallery floors; gallery roofs over the upper aisles.
+     * The gallery floor reaches EDGE so the balustrade and the upper column
+     * bases stand fully on it: no visible coplanar overlapping faces (they
+     * would make closest-hit ties between primitives). */
     for (int side = -1; side <= 1; side += 2) {
-        double za = side < 0 ? -HALL_Z : ROW_Z - 0.4, zb = side < 0 ? -ROW_Z + 0.4 : HALL_Z;
+        double za = side < 0 ? -HALL_Z : EDGE, zb = side < 0 ? -EDGE : HALL_Z;
         rt_mb_box(b, -HALL_X, STOREY, za, HALL_X, STOREY + 0.4, zb);
         rt_mb_box(b, -HALL_X, TOP - 0.4, za, HALL_X, TOP, zb);
-        /* balustrade along the gallery edge */
-        double ze = side * (ROW_Z - 0.4);
-        rt_mb_box(b, -HALL_X, STOREY + 0.4, ze - 0.15, HALL_X, STOREY + 1.3, ze + 0.15);
+        /* balustrade along the gallery edge, on the floor */
+        double z0 = side < 0 ? -EDGE - 0.3 : EDGE;
+        rt_mb_box(b, -HALL_X, STOREY + 0.4, z0, HALL_X, STOREY + 1.3, z0 + 0.3);
     }
     /* Two storeys of colonnades with arches between neighbouring columns. */
     double pitch = 2 * HALL_X / COLS;
@@ -113,7 +117,7 @@ void rt_builtin_interior(rt_mesh_builder *b, rt_views *views)
     for (int side = -1; side <= 1; side += 2)
         for (int i = 0; i < 4; i++) {
             double x = -HALL_X + pitch * (2.0 * i + 1.5);
-            drape(b, &rng, x, STOREY + 1.2, side * (ROW_Z - 0.7), pitch - 1.6, 5.5, 16, 12);
+            drape(b, &rng, x, STOREY + 1.2, side * (EDGE - 0.4), pitch - 1.6, 5.5, 16, 12);
         }
     rt_mb_view(b, views, "hall", -18.0, 3.5, 0.5, 10.0, 5.0, -0.5, 60.0);
     rt_mb_view(b, views, "gallery", 18.0, 12.5, 0.0, -6.0, 3.0, 2.5, 60.0);

@@ -5,6 +5,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "tracer/det_math.h"
 #include "tracer/scene_error.h"
 
 static void normalize3(double v[3])
@@ -28,7 +29,7 @@ bool rt_camera_init(rt_camera *cam, const rt_view *view, uint32_t width, uint32_
                         width, height);
         return false;
     }
-    if (!rt_view_validate(view, "view", 0, err, errlen))
+    if (!rt_view_validate(view, "camera", 0, err, errlen))
         return false;
     cam->eye[0] = view->eye.x, cam->eye[1] = view->eye.y, cam->eye[2] = view->eye.z;
     cam->forward[0] = (double)view->at.x - view->eye.x;
@@ -39,7 +40,7 @@ bool rt_camera_init(rt_camera *cam, const rt_view *view, uint32_t width, uint32_
     cross3(cam->forward, up, cam->right);
     normalize3(cam->right);
     cross3(cam->right, cam->forward, cam->up);
-    cam->s = tan(view->fov_deg * (M_PI / 360.0));
+    cam->s = rt_det_tan(view->fov_deg * (M_PI / 360.0));
     cam->width = width;
     cam->height = height;
     return true;

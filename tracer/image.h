@@ -34,6 +34,10 @@ bool rt_image_write_rgb(const char *path, const float *rgb, uint32_t width, uint
  * (non-finite v -> magenta, hi <= lo -> t = 0). rgb[3] in [0,1]. */
 void rt_colormap_eval(rt_colormap cmap, float v, float lo, float hi, float rgb[3]);
 
+/* Smallest and largest finite value of v[0..n) (both 0 when there is none):
+ * the usual [lo, hi] of a heatmap. */
+void rt_image_value_range(const float *v, size_t n, float *lo, float *hi);
+
 /* Writes a heatmap of one scalar per pixel mapped through cmap over [lo, hi].
  * The range and map are stored in the image's ImageDescription metadata; an
  * .exr also gets a fourth channel "value" holding the raw scalars. */
@@ -45,6 +49,12 @@ bool rt_image_write_heatmap(const char *path, const float *values, uint32_t widt
  * frees); grey images are replicated. For tests and tools. */
 bool rt_image_read_rgb(const char *path, float **rgb, uint32_t *width, uint32_t *height,
                        char *err, size_t errlen);
+
+/* Reads the channel called `channel` (e.g. "value" of an .exr heatmap, or
+ * "R") as one float per pixel (malloc'ed, caller frees); false with a
+ * message listing the channels when there is none of that name. */
+bool rt_image_read_channel(const char *path, const char *channel, float **values, uint32_t *width,
+                           uint32_t *height, char *err, size_t errlen);
 
 /* Reads the ImageDescription metadata into desc (empty when absent). */
 bool rt_image_read_description(const char *path, char *desc, size_t desclen,

@@ -118,6 +118,23 @@ extern "C" void rt_colormap_eval(rt_colormap cmap, float v, float lo, float hi, 
         rgb[c] = float(((1 - f) * viridis_stops[i][c] + f * viridis_stops[i + 1][c]) / 255.0);
 }
 
+extern "C" void rt_image_value_range(const float *v, size_t n, float *lo, float *hi)
+{
+    bool any = false;
+    float a = 0, b = 0;
+    for (size_t i = 0; i < n; i++) {
+        if (!std::isfinite(v[i]))
+            continue;
+        if (!any || v[i] < a)
+            a = v[i];
+        if (!any || v[i] > b)
+            b = v[i];
+        any = true;
+    }
+    *lo = a;
+    *hi = b;
+}
+
 extern "C" bool rt_image_write_heatmap(const char *path, const float *values, uint32_t width,
                                        uint32_t height, float lo, float hi, rt_colormap cmap,
                                        char *err, size_t errlen)
@@ -173,6 +190,45 @@ extern "C" bool rt_image_read_rgb(const char *path, float **rgb, uint32_t *width
     *rgb = out;
     *width = uint32_t(w);
     *height = uint32_t(h);
+    return true;
+}
+
+extern "C" bool rt_image_read_channel(const char *path, const char *channel, float **values,
+                                      uint32_t *width, uint32_t *height, char *err, size_t errlen)
+{
+    *values = nullptr;
+    auto in = ImageInput::open(path);
+    if (!in) {
+        rt_scene_errorf(err, errlen, "%s: cannot read image: %s", path, OIIO::geterror().c_str());
+        return false;
+    }
+    const ImageSpec &spec = in->spec();
+    int c = spec.channelindex(channel);
+    if (c < 0) {
+        std::string names;
+        for (const auto &n : spec.channelnames)
+            names += (names.empty() ? "" : ", ") + n;
+        rt_scene_errorf(err, errlen, "%s: no channel '%s'; channels: %s", path, channel, names.c_str());
+        in->close();
+        return false;
+    }
+    size_t n = size_t(spec.width) * spec.height;
+    float *out = static_cast<float *>(std::malloc((n ? n : 1) * sizeof(float)));
+    if (!out) {
+        rt_scene_errorf(err, errlen, "%s: out of memory", path);
+        in->close();
+        return false;
+    }
+    if (!in->read_image(0, 0, c, c + 1, TypeDesc::FLOAT, out)) {
+        rt_scene_errorf(err, errlen, "%s: cannot read channel %s: %s", path, channel, in->geterror().c_str());
+        std::free(out);
+        in->close();
+        return false;
+    }
+    in->close();
+    *values = out;
+    *width = uint32_t(spec.width);
+    *height = uint32_t(spec.height);
     return true;
 }
 

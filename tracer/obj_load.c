@@ -74,7 +74,11 @@ bool rt_obj_parse(const char *text, size_t len, const char *file, rt_mesh *out, 
     growbuf tris = {NULL, 0, 0, 3 * sizeof(uint32_t)};
     growbuf poly = {NULL, 0, 0, sizeof(uint32_t)};   /* vertex indices of the current face */
     uint64_t nvt = 0, nvn = 0;
+    uint64_t fwd_max[3] = {0, 0, 0};        /* largest forward (positive) index per kind */
+    unsigned long fwd_line[3] = {0, 0, 0};  /* and the line it is on */
     const char *p = text, *end = text + len;
+    if (len >= 3 && (unsigned char)p[0] == 0xef && (unsigned char)p[1] == 0xbb && (unsigned char)p[2] == 0xbf)
+        p += 3;   /* UTF-8 byte order mark */
     unsigned long line = 0;
     while (p < end) {
         line++;
@@ -152,13 +156,27 @@ bool rt_obj_parse(const char *text, size_t len, const char *file, rt_mesh *out, 
                 const uint64_t count[3] = {verts.n, nvt, nvn};
                 uint32_t v0 = 0;
                 for (int k = 0; k < 3; k++) {
-                    uint32_t ix;
-                    if (have[k] && !resolve_index(idx[k], count[k], &ix)) {
-                        rt_scene_errorf(err, errlen,
-                                        "%s:%lu: %s index %lld out of range; %llu defined so far "
-                                        "(allowed 1..%llu or -1..-%llu)",
-                                        file, line, what[k], idx[k], (unsigned long long)count[k],
-                                        (unsigned long long)count[k], (unsigned long long)count[k]);
+                    uint32_t ix = 0;
+                    if (!have[k])
+                        continue;
+                    if (idx[k] > 0 && (uint64_t)idx[k] > count[k] && idx[k] <= UINT32_MAX) {
+                        /* A forward reference: checked against the final
+                         * count at the end of the file. */
+                        ix = (uint32_t)(idx[k] - 1);
+                        if ((uint64_t)idx[k] > fwd_max[k])
+                            fwd_max[k] = (uint64_t)idx[k], fwd_line[k] = line;
+                    } else if (!resolve_index(idx[k], count[k], &ix)) {
+                        if (idx[k] == 0)
+                            rt_scene_errorf(err, errlen,
+                                            "%s:%lu: %s index 0 is invalid; OBJ indices start at 1 "
+                                            "(negative ones count back from the last defined)",
+                                            file, line, what[k]);
+                        else
+                            rt_scene_errorf(err, errlen,
+                                            "%s:%lu: %s index %lld out of range; %llu defined so far "
+                                            "(negative indices allowed -1..-%llu)",
+                                            file, line, what[k], idx[k], (unsigned long long)count[k],
+                                            (unsigned long long)count[k]);
                         goto fail;
                     }
                     if (k == 0)
@@ -193,6 +211,18 @@ bool rt_obj_parse(const char *text, size_t len, const char *file, rt_mesh *out, 
         p = next;
     }
     free(poly.data);
+    poly.data = NULL;
+    {
+        static const char *const what[3] = {"vertex", "texture coordinate", "normal"};
+        const uint64_t final_count[3] = {verts.n, nvt, nvn};
+        for (int k = 0; k < 3; k++)
+            if (fwd_max[k] > final_count[k]) {
+                rt_scene_errorf(err, errlen, "%s:%lu: %s index %llu out of range; the file defines %llu",
+                                file, fwd_line[k], what[k], (unsigned long long)fwd_max[k],
+                                (unsigned long long)final_count[k]);
+                goto fail;
+            }
+    }
     if (tris.n == 0) {
         rt_scene_errorf(err, errlen, "%s: no faces ('f' lines); a scene needs at least one triangle",
                         file);

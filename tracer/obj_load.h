@@ -5,9 +5,11 @@
  * elements defined so far) indices, polygons fan-triangulated
  * (v0,v[i],v[i+1]) in file order, `#` comments, blank lines, CRLF. `vt`/`vn`
  * are counted only to check references; o, g, s, usemtl, mtllib, l, p and
- * other statements are ignored. An index must refer to an element defined on
- * an earlier line. Errors: "FILE:LINE: ..." (bad number, index out of range,
- * face with fewer than 3 vertices). Input may be gzip-compressed (any name). */
+ * other statements are ignored; a UTF-8 byte order mark is skipped. Positive
+ * indices may refer to elements defined later in the file (checked at the
+ * end); negative ones count back from the elements defined so far. Errors:
+ * "FILE:LINE: ..." (bad number, index out of range, face with fewer than 3
+ * vertices). Input may be gzip-compressed (any name). */
 #ifndef RTSIM_TRACER_OBJ_LOAD_H
 #define RTSIM_TRACER_OBJ_LOAD_H
 

@@ -567,6 +567,15 @@ static bool read_faces(ply *p, const element *e, uint64_t nverts_declared, rt_me
                     body_error(p, msg);
                     goto done;
                 }
+                /* Each index takes >= 1 byte: refuse lists longer than the
+                 * rest of the data before allocating for them. */
+                uint64_t item = p->format == F_ASCII ? 1 : type_size[pr->type];
+                if ((uint64_t)n * item > p->len - p->pos) {
+                    char msg[128];
+                    snprintf(msg, sizeof msg, "list of %u vertex indices runs past the end of the data (file truncated?)", n);
+                    body_error(p, msg);
+                    goto done;
+                }
                 if (n > poly_cap) {
                     uint32_t *np = realloc(poly, (size_t)n * sizeof *np);
                     if (!np) {

@@ -104,6 +104,8 @@ static bool load_scene_file(const char *path, rt_scene *s, char *err, size_t err
     rt_views own = {NULL, 0};
     unsigned lineno = 0;
     char *p = (char *)buf;
+    if (len >= 3 && buf[0] == 0xef && buf[1] == 0xbb && buf[2] == 0xbf)
+        p += 3;   /* UTF-8 byte order mark */
     if (memchr(buf, 0, len)) {
         rt_scene_errorf(err, errlen, "%s: contains a NUL byte; a scene file is text", path);
         goto done;

@@ -67,9 +67,14 @@ unsigned char *rt_read_file_gz(const char *path, size_t *len, char *err, size_t 
     FILE *raw = fopen(path, "rb");
     if (raw) {
         unsigned char t[4];
-        if (fseek(raw, -4, SEEK_END) == 0 && fread(t, 1, 4, raw) == 4) {
+        long csize = fseek(raw, 0, SEEK_END) == 0 ? ftell(raw) : -1;
+        if (csize >= 4 && fseek(raw, -4, SEEK_END) == 0 && fread(t, 1, 4, raw) == 4) {
             size_t isize = (size_t)t[0] | (size_t)t[1] << 8 | (size_t)t[2] << 16 | (size_t)t[3] << 24;
-            if (isize > hint && isize < ((size_t)1 << 32) - (1u << 21))
+            /* Trust it only up to deflate's maximum ratio of about 1032:1
+             * (zlib technical details, zlib.net/zlib_tech.html): a corrupt
+             * trailer must not cause a huge allocation. */
+            if (isize > hint && isize < ((size_t)1 << 32) - (1u << 21) &&
+                (uint64_t)isize <= (uint64_t)csize * 1032u)
                 hint = isize + (1u << 20);   /* + room so the final read sees EOF */
         }
         fclose(raw);
@@ -83,6 +88,10 @@ unsigned char *rt_read_file_gz(const char *path, size_t *len, char *err, size_t 
     gzbuffer(f, 1u << 18);   /* 256 KiB: fewer read() calls on big scenes */
     size_t cap = hint, n = 0;
     unsigned char *buf = malloc(cap + 1);
+    if (!buf && cap > (1u << 20)) {   /* the hint was too optimistic: grow instead */
+        cap = 1u << 20;
+        buf = malloc(cap + 1);
+    }
     if (!buf) {
         gzclose(f);
         rt_scene_errorf(err, errlen, "%s: out of memory", path);
@@ -107,22 +116,23 @@ unsigned char *rt_read_file_gz(const char *path, size_t *len, char *err, size_t 
         if (want > (1u << 30))
             want = 1u << 30;
         int got = gzread(f, buf + n, (unsigned)want);
-        if (got < 0) {
-            int code;
-            const char *msg = gzerror(f, &code);
-            rt_scene_errorf(err, errlen, "%s: read error: %s",
-                            path, code == Z_ERRNO ? strerror(errno) : msg);
-            goto fail;
-        }
-        if (got == 0)
+        if (got <= 0)
             break;
         n += (size_t)got;
     }
     {
         int code;
         const char *msg = gzerror(f, &code);
+        if (code == Z_ERRNO) {
+            rt_scene_errorf(err, errlen, "%s: read error: %s", path, strerror(errno));
+            goto fail;
+        }
         if (code != Z_OK) {
-            /* zlib reports a cut-off gzip stream as Z_BUF_ERROR "unexpected end of file". */
+            size_t pl = strlen(path);   /* zlib prefixes its message with the path */
+            if (strncmp(msg, path, pl) == 0 && msg[pl] == ':' && msg[pl + 1] == ' ')
+                msg += pl + 2;
+            /* zlib reports a cut-off stream as Z_BUF_ERROR "unexpected end of
+             * file", a bad trailer as Z_DATA_ERROR "incorrect length check". */
             rt_scene_errorf(err, errlen, "%s: corrupt or truncated gzip data after %zu bytes: %s",
                             path, n, msg);
             goto fail;

@@ -186,6 +186,8 @@ bool rt_views_parse_text(const char *text, const char *file, rt_views *out, char
     out->n = 0;
     unsigned lineno = 0;
     const char *p = text;
+    if ((unsigned char)p[0] == 0xef && (unsigned char)p[1] == 0xbb && (unsigned char)p[2] == 0xbf)
+        p += 3;   /* UTF-8 byte order mark */
     while (*p) {
         lineno++;
         const char *eol = strchr(p, '\n');

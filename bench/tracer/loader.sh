@@ -13,7 +13,7 @@ cd "$(dirname "$0")/../.."
 build=${1:-build}
 runs=${RUNS:-5}
 bin=$build/bench/tracer_loader
-if [ ! -x "$bin" ]; then make -s "$bin" >&2; fi
+if [ ! -x "$bin" ]; then make -s BUILD="$build" "$bin" >&2; fi
 scenes=${RTSIM_SCENES:-}
 for d in ../shared/scenes ../../shared/scenes; do
   if [ -z "$scenes" ] && [ -f "$d/README.md" ]; then scenes=$d; fi

@@ -45,8 +45,12 @@ static inline bool tb_check_at(bool ok, const char *file, int line, const char *
     return false;
 }
 #define TB_CHECK(cond, ...) tb_check_at((cond), __FILE__, __LINE__, __VA_ARGS__)
-#define TB_EQ_INT(a, b) \
-    TB_CHECK((long long)(a) == (long long)(b), "%s == %s: %lld != %lld", #a, #b, (long long)(a), (long long)(b))
+/* Evaluates each operand exactly once (they may be calls with side effects). */
+static inline bool tb_eq_int_at(long long a, long long b, const char *as, const char *bs, const char *file, int line)
+{
+    return tb_check_at(a == b, file, line, "%s == %s: %lld != %lld", as, bs, a, b);
+}
+#define TB_EQ_INT(a, b) tb_eq_int_at((long long)(a), (long long)(b), #a, #b, __FILE__, __LINE__)
 
 static inline void tb_end(void)
 {

@@ -692,6 +692,16 @@ int64_t dram_next_event(const dram_ctrl *c)
 
 void dram_set_exhaustive(dram_ctrl *c, bool on) { c->exhaustive = on; }
 
+/* Jumps k idle cycles, accounting what ticking through them would have. */
+static void skip_by(dram_ctrl *c, int64_t k)
+{
+    for (int i = 0; i < c->nch; i++) {
+        dchan *ch = &c->ch[i];
+        ch->st.queue_occupancy_sum += (uint64_t)k * (uint64_t)(ch->readq.n + ch->writeq.n + ch->pend_n);
+    }
+    c->clk += k;
+}
+
 int64_t dram_skip(dram_ctrl *c)
 {
     if (c->exhaustive)
@@ -700,12 +710,23 @@ int64_t dram_skip(dram_ctrl *c)
     int64_t k = t - 1 - c->clk;
     if (k <= 0)
         return 0;
-    for (int i = 0; i < c->nch; i++) {
-        dchan *ch = &c->ch[i];
-        ch->st.queue_occupancy_sum += (uint64_t)k * (uint64_t)(ch->readq.n + ch->writeq.n + ch->pend_n);
-    }
-    c->clk += k;
+    skip_by(c, k);
     return k;
+}
+
+void dram_advance_to(dram_ctrl *c, int64_t cycle)
+{
+    while (c->clk < cycle) {
+        if (!c->exhaustive) {
+            const int64_t t = dram_next_event(c) - 1;
+            const int64_t stop = t < cycle ? t : cycle;
+            if (stop > c->clk)
+                skip_by(c, stop - c->clk);
+            if (c->clk == cycle)
+                break;
+        }
+        dram_tick(c);
+    }
 }
 
 void dram_chan_stats_get(const dram_ctrl *c, int channel, dram_chan_stats *out)

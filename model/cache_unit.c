@@ -160,7 +160,7 @@ static int step(void *user, uint64_t cycle)
     if (f) {
         /* released waiters need room in the response pipeline */
         if (u->outq_cap - u->outq_n >= u->p.mshr_merge) {
-            mem_resp resp;
+            mem_resp resp = {0};
             ks_fifo_read(u->fill_in, &resp);
             if (cache_fill(u->core, &resp, now) < 0) {
                 fprintf(stderr, "%s: fill for 0x%llx (tag %llu) matches no MSHR\n", u->name,

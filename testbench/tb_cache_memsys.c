@@ -212,6 +212,41 @@ static void test_l2_merge_and_fairness(void)
     tb_end();
 }
 
+/* The smallest legal memory side (every FIFO 1 entry, one MSHR per cache,
+ * no merging) is slow but never deadlocks: the response path never waits on
+ * the request path. */
+static void test_tiny_resources(const char *model)
+{
+    char name[80], m[40];
+    snprintf(name, sizeof name, "one_entry_fifos_one_mshr_complete_%s", model);
+    snprintf(m, sizeof m, "memory.model=%s", model);
+    tb_begin(name);
+    const char *sets[] = {m, "fifo.mem_l1_miss=1", "fifo.mem_l1_fill=1", "fifo.mem_l2_req=1", "fifo.mem_l2_resp=1",
+                          "fifo.mem_l2_miss=1", "fifo.mem_l2_fill=1", "fifo.mem_prim_miss=1", "fifo.mem_prim_fill=1",
+                          "fifo.mem_req=1", "fifo.mem_resp=1", "fifo.mem_dram_req=1", "fifo.mem_dram_resp=1",
+                          "node_l1.mshrs=1", "node_l2.mshrs=1", "prim.mshrs=1", "node_l2.mshr_merge=1",
+                          "memory.max_outstanding=1", NULL};
+    bench b;
+    if (bench_init(&b, "bvh2", sets, 4, false)) {
+        for (int i = 0; i < 4; i++) {
+            requester *r = add_requester(&b, memsys_node_l1(b.ms, i), 64);
+            for (int k = 0; k < 16; k++)
+                push_to(r, k % 4, 0x10000 + (uint64_t)((k * 5 + i) % 24) * 64, 0);
+        }
+        requester *ist = add_requester(&b, memsys_prim(b.ms), 48);
+        for (int k = 0; k < 32; k++)
+            push_to(ist, k % 8, 0x90000 + (uint64_t)k * 48, 0);
+        ks_run_status st = bench_run(&b, 400000);
+        TB_CHECK(st == KS_RUN_FINISHED, "run: %s %s", ks_run_status_name(st), ks_sim_deadlock_report(b.sim));
+        for (int i = 0; i < 5; i++)
+            for (int k = 0; k < b.req[i].ns; k++)
+                TB_CHECK(b.req[i].st[k].next == b.req[i].st[k].n, "requester %d stream %d unfinished", i, k);
+        TB_EQ_INT(memsys_busy(b.ms), 0);
+    }
+    bench_free(&b);
+    tb_end();
+}
+
 /* The primitive cache streams distinct lines: the fixed memory's bandwidth
  * (12.8 GB/s at 500 MHz = 25.6 B/cycle, paper sec. 3.2) bounds the time. */
 static void test_bandwidth(void)
@@ -304,8 +339,13 @@ static void test_build_errors_and_tables(void)
              "bad DRAM spec: %s", err);
     ks_sim_destroy(sim);
     rtcfg_destroy(cfg);
-    const ks_module_desc *d[] = {&cache_unit_desc, &mem_arbiter_desc, &fixed_mem_desc, &mem_dram_adapter_desc};
-    for (int i = 0; i < 4; i++) {
+    const ks_module_desc *d[] = {&cache_unit_desc, &mem_arbiter_desc, &fixed_mem_desc, &mem_dram_adapter_desc,
+                                 &dram_port_desc};
+    TB_CHECK(memsys_module_desc("node_l1") == &cache_unit_desc && memsys_module_desc("prim") == &cache_unit_desc &&
+                 memsys_module_desc("l2_arbiter") == &mem_arbiter_desc && memsys_module_desc("fixed_mem") == &fixed_mem_desc &&
+                 memsys_module_desc("dram") == &dram_port_desc && memsys_module_desc("trv") == NULL,
+             "module lookup by name and instance");
+    for (int i = 0; i < 5; i++) {
         TB_CHECK(ks_module_desc_check(d[i], err, sizeof err) == 0, "%s", err);
         TB_CHECK(ks_module_desc_count(d[i], KS_DESC_PARAM) > 0 && ks_module_desc_count(d[i], KS_DESC_PORT) > 0 &&
                      ks_module_desc_count(d[i], KS_DESC_STAT) > 0,
@@ -373,6 +413,8 @@ int main(void)
     test_fill_path_latency();
     test_l2_merge_and_fairness();
     test_bandwidth();
+    test_tiny_resources("fixed");
+    test_tiny_resources("lpddr3");
     test_idle_skipping_equivalence("fixed");
     test_idle_skipping_equivalence("lpddr3");
     test_lpddr3();

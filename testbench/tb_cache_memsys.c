@@ -170,6 +170,8 @@ static void test_fill_path_latency(void)
         TB_EQ_INT(stat(&b, "node_l1_0.misses"), r0->probes - 2);
         TB_EQ_INT(stat(&b, "node_l1_0.merged"), r0->probes - 3);
         TB_EQ_INT(stat(&b, "node_l1_1.miss_lines"), 1);
+        TB_CHECK(stat(&b, "node_l1_0.line_hit_rate") == 2.0 / 3.0, "line hit rate %g", stat(&b, "node_l1_0.line_hit_rate"));
+        TB_CHECK(stat(&b, "node_l1_0.hit_rate") == 2.0 / (double)r0->probes, "hit rate %g", stat(&b, "node_l1_0.hit_rate"));
         TB_EQ_INT(stat(&b, "memory.requests"), 1);
         TB_EQ_INT(stat(&b, "memory.bytes"), 128);
         TB_EQ_INT(stat(&b, "memory.bytes_total"), 128);

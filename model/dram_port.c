@@ -213,17 +213,19 @@ static int step(void *user, uint64_t cycle)
     p->progress = 0;
     dram_advance_to(p->c, now);
     deliver(p, now);
-    int accepted = 0;
-    if (!p->ready_n)
-        accepted = accept(p, now);
+    /* end of input: as the standalone driver, the cycle after the last burst entered
+     * (before this cycle's offer, so the drain starts with the next tick) */
     if (p->input_done && !p->drained && p->cur < 0 && ks_fifo_occupancy(p->req) == 0) {
         dram_set_write_high_pct(p->c, 0);
         p->drained = 1;
     }
+    int accepted = 0;
+    if (!p->ready_n)
+        accepted = accept(p, now);
     /* When must the next step run? Next cycle while requests can enter; else at the
      * controller's next event; FIFO events wake the process for everything else. */
     uint64_t next = UINT64_MAX;
-    if (accepted && !p->ready_n && (p->cur >= 0 || ks_fifo_can_read(p->req)))
+    if ((accepted && !p->ready_n && (p->cur >= 0 || ks_fifo_can_read(p->req))) || (p->input_done && !p->drained))
         next = cycle + 1;
     if (dram_pending(p->c)) {
         const uint64_t e = (uint64_t)dram_next_event(p->c);

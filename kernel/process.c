@@ -46,6 +46,7 @@ void ks_method_sensitive(ks_method *m, ks_event *ev)
     KS_GROW(ev->statics, ev->n_statics, ev->cap_statics);
     ev->statics[ev->n_statics++] = m;
     ev->has_methods = ev->any_waiters = 1;
+    ks__event_queue_pending(ev);
     KS_GROW(m->sens, m->n_sens, m->cap_sens);
     m->sens[m->n_sens++] = ev;
 }
@@ -94,6 +95,7 @@ static void dyn_link(ks_method *m, ks_event *ev)
         ev->dyn_head->dyn_prev = m;
     ev->dyn_head = m;
     ev->has_methods = ev->any_waiters = 1;
+    ks__event_queue_pending(ev);
 }
 
 static void set_timeout(ks_method *m, ks_time delay)

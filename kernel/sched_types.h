@@ -181,17 +181,35 @@ static inline void ks__wake_clocked_at(const ks_event *ev, ks_time t)
     }
 }
 
-/* Delta notification; an event is in the delta list at most once while
- * pending (a cancelled entry is skipped when its pending flag is gone). */
+uint64_t ks__next_key(ks_sim *sim, unsigned kind);
+
+/* Is the event's pending notification still ahead? (An unqueued one,
+ * recorded while nobody waited, expires when its time or delta passes.) */
+static inline int ks__pending_live(const ks_event *ev)
+{
+    if (ev->pending == KS_PEND_NONE)
+        return 0;
+    if (ev->queued)
+        return 1;
+    if (ev->pending == KS_PEND_TIMED)
+        return ev->pending_time > ev->sim->now;
+    return ev->pending_delta == ev->sim->deltas;
+}
+
+/* Delta notification. With method waiters it gets a delta-list entry
+ * (an event is in the list at most once while pending; a cancelled entry is
+ * skipped when its pending flag is gone); without, it is only recorded. */
 void ks__event_notify_delta_slow(ks_event *ev);
 static inline __attribute__((always_inline)) void ks__event_notify_delta(ks_event *ev)
 {
-    if (!ev->any_waiters)
-        return;
     if (ev->n_clocked)
         ks__wake_clocked_next(ev);
-    if (!ev->has_methods)
+    if (!ev->has_methods) {
+        ev->pending = KS_PEND_DELTA;
+        ev->pending_delta = ev->sim->deltas;
+        ev->queued = 0;
         return;
+    }
     if (ev->pending != KS_PEND_NONE) {
         if (ev->pending == KS_PEND_TIMED)
             ks__event_notify_delta_slow(ev);
@@ -199,6 +217,7 @@ static inline __attribute__((always_inline)) void ks__event_notify_delta(ks_even
     }
     ks_sim *sim = ev->sim;
     ev->pending = KS_PEND_DELTA;
+    ev->queued = 1;
     if (sim->n_delta == sim->cap_delta)
         ks__grow_delta(sim);
     sim->delta[sim->n_delta].obj = ev;
@@ -207,14 +226,21 @@ static inline __attribute__((always_inline)) void ks__event_notify_delta(ks_even
 }
 
 void ks__event_notify_at_methods(ks_event *ev, ks_time when);
+/* Timed notification at when > now. */
 static inline __attribute__((always_inline)) void ks__event_notify_at(ks_event *ev, ks_time when)
 {
-    if (!ev->any_waiters)
-        return;
     if (ev->n_clocked)
         ks__wake_clocked_at(ev, when);
-    if (ev->has_methods)
+    if (ev->has_methods) {
         ks__event_notify_at_methods(ev, when);
+        return;
+    }
+    if (ks__pending_live(ev) && (ev->pending == KS_PEND_DELTA || ev->pending_time <= when))
+        return;
+    ev->pending = KS_PEND_TIMED;
+    ev->pending_time = when;
+    ev->pending_key = ks__next_key(ev->sim, KS_K_EVENT);
+    ev->queued = 0;
 }
 
 #endif

@@ -104,24 +104,12 @@ uint32_t ks_sim_fifo_count(const ks_sim *sim);
 ks_fifo *ks_sim_fifo_at(const ks_sim *sim, uint32_t i);
 
 
-/* ---- inline hot paths (private) ---- */
+/* ---- inline hot paths (private) ----
+ * The generic read/write copy with memcpy(elem_size); the KS_FIFO_READ /
+ * KS_FIFO_WRITE forms pass sizeof at the call site, so the copy is inlined. */
 #include "kernel/sched_types.h"
 
 #define KS_ALWAYS_INLINE inline __attribute__((always_inline))
-
-/* Item copy without a library call for the usual item sizes (multiples of
- * 8 bytes up to 64): a short loop of 8-byte moves. */
-static KS_ALWAYS_INLINE void ks__fifo_copy(void *dst, const void *src, uint32_t n)
-{
-    unsigned char *d = dst;
-    const unsigned char *s = src;
-    if ((n & 7) == 0 && n <= 64) {
-        for (uint32_t i = 0; i < n; i += 8)
-            memcpy(d + i, s + i, 8);
-    } else {
-        memcpy(d, s, n);
-    }
-}
 
 void ks__fifo_size_mismatch(const ks_fifo *f, size_t size);
 
@@ -139,7 +127,7 @@ static KS_ALWAYS_INLINE int ks__fifo_write(ks_fifo *f, const void *item, int siz
     if (sized)
         memcpy(f->data + (size_t)i * size, item, size);
     else
-        ks__fifo_copy(f->data + (size_t)i * f->elem_size, item, f->elem_size);
+        memcpy(f->data + (size_t)i * f->elem_size, item, f->elem_size);
     ks_time ready = now + f->latency_ps;
     f->ready[i] = ready;
     f->count++;
@@ -165,7 +153,7 @@ static KS_ALWAYS_INLINE int ks__fifo_read(ks_fifo *f, void *out, int sized, size
         if (sized)
             memcpy(out, f->data + (size_t)f->head * size, size);
         else
-            ks__fifo_copy(out, f->data + (size_t)f->head * f->elem_size, f->elem_size);
+            memcpy(out, f->data + (size_t)f->head * f->elem_size, f->elem_size);
     }
     if (++f->head == f->capacity)
         f->head = 0;

@@ -224,17 +224,17 @@ static int step(void *user, uint64_t cycle)
         accepted = accept(p, now);
     /* When must the next step run? Next cycle while requests can enter; else at the
      * controller's next event; FIFO events wake the process for everything else. */
+    uint64_t made = p->progress + (uint64_t)accepted;
     uint64_t next = UINT64_MAX;
-    if ((accepted && !p->ready_n && (p->cur >= 0 || ks_fifo_can_read(p->req))) || (p->input_done && !p->drained))
+    const int drain_due = p->input_done && !p->drained && p->cur < 0 && ks_fifo_occupancy(p->req) == 0;
+    if ((accepted && !p->ready_n && (p->cur >= 0 || ks_fifo_can_read(p->req))) || drain_due)
         next = cycle + 1;
-    if (dram_pending(p->c)) {
-        const uint64_t e = (uint64_t)dram_next_event(p->c);
-        if (e < next)
-            next = e;
-    }
-    if (next != UINT64_MAX)
+    else if (dram_pending(p->c))
+        next = (uint64_t)dram_next_event(p->c);
+    if (next == cycle + 1 && made == 0)
+        made = 1; /* must run next cycle: stay awake (cheaper than a timer); counts as progress */
+    if (next != UINT64_MAX && next != cycle + 1)
         ks_clocked_sleep_until_cycle(p->proc, next);
-    const uint64_t made = p->progress + (uint64_t)accepted;
     return made > 0x7fffffff ? 0x7fffffff : (int)made;
 }
 

@@ -308,6 +308,16 @@ static void flush_dirty(ks_vcd *d)
         d->n_dirty = 0;
         return;
     }
+    if (!d->started && t == d->begin) {
+        /* changes at the first time of the window go into its $dumpvars */
+        for (unsigned i = 0; i < d->n_dirty; i++) {
+            d->dirty[i]->emitted = d->dirty[i]->value;
+            d->dirty[i]->dirty = 0;
+        }
+        d->n_dirty = 0;
+        start_window(d);
+        return;
+    }
     if (!d->started)
         start_window(d);
     if (t >= d->end) {

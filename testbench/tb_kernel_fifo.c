@@ -475,6 +475,8 @@ static void test_deadlock(void)
     char rep[4096];
     ks_run_status st = run_pair(5, 2, rep, sizeof rep);
     TB_EQ_INT(st, KS_RUN_DEADLOCK);
+    if (getenv("TB_VERBOSE"))
+        fputs(rep, stderr);
     TB_CHECK(strstr(rep, "pair.a (clocked") && strstr(rep, "pair.b (clocked"),
              "report lacks the processes:\n%s", rep);
     TB_CHECK(strstr(rep, "pair.a_to_b.freed [fifo 2/2 full]"), "report lacks what a waits on:\n%s", rep);

@@ -81,10 +81,12 @@ void ks__event_queue_pending(ks_event *ev)
         return;
     }
     ev->queued = 1;
-    if (ev->pending == KS_PEND_DELTA)
+    if (ev->pending == KS_PEND_DELTA) {
         ks__delta_push(ev->sim, ev, 0);
-    else
+    } else {
+        ev->pending_key = ks__next_key(ev->sim, KS_K_EVENT);
         ks__heap_push(ev->sim, ev->pending_time, ev->pending_key, ev);
+    }
 }
 
 void ks_event_notify_at(ks_event *ev, ks_time when)

@@ -181,7 +181,7 @@ static inline void ks__wake_clocked_at(const ks_event *ev, ks_time t)
     }
 }
 
-uint64_t ks__next_key(ks_sim *sim, unsigned kind);
+static inline uint64_t ks__next_key(ks_sim *sim, unsigned kind) { return (++sim->seq << 2) | kind; }
 
 /* Is the event's pending notification still ahead? (An unqueued one,
  * recorded while nobody waited, expires when its time or delta passes.) */
@@ -204,9 +204,10 @@ static inline __attribute__((always_inline)) void ks__event_notify_delta(ks_even
 {
     if (ev->n_clocked)
         ks__wake_clocked_next(ev);
-    if (!ev->has_methods) {
+    if (!ev->has_methods) { /* record only; pending_key 0 voids a queued entry */
         ev->pending = KS_PEND_DELTA;
         ev->pending_delta = ev->sim->deltas;
+        ev->pending_key = 0;
         ev->queued = 0;
         return;
     }
@@ -235,11 +236,13 @@ static inline __attribute__((always_inline)) void ks__event_notify_at(ks_event *
         ks__event_notify_at_methods(ev, when);
         return;
     }
-    if (ks__pending_live(ev) && (ev->pending == KS_PEND_DELTA || ev->pending_time <= when))
+    /* record only (the queue key is drawn when a method starts waiting) */
+    if (ev->pending == KS_PEND_TIMED ? ev->pending_time > ev->sim->now && ev->pending_time <= when
+                                     : ks__pending_live(ev))
         return;
     ev->pending = KS_PEND_TIMED;
     ev->pending_time = when;
-    ev->pending_key = ks__next_key(ev->sim, KS_K_EVENT);
+    ev->pending_key = 0;
     ev->queued = 0;
 }
 

@@ -119,7 +119,6 @@ const char *ks_run_status_name(ks_run_status st)
     return "?";
 }
 
-uint64_t ks__next_key(ks_sim *sim, unsigned kind) { return (++sim->seq << 2) | kind; }
 
 /* ---- timed queue: 4-ary min-heap on (t, key) ----
  * A 4-ary heap halves the depth of a binary one (5 levels for 1000 entries)

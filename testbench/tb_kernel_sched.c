@@ -197,7 +197,7 @@ static void test_equal_time_order(void)
         g_sim = ks_sim_create();
         nlog = 0;
         for (int i = 0; i < 6; i++) {
-            char name[8];
+            char name[16];
             snprintf(name, sizeof name, "e%d", i);
             ks_event_init(&g_ctx[i].ev, g_sim, name);
             g_ctx[i].tag = (char)('0' + i);

@@ -211,6 +211,12 @@ static int step(void *user, uint64_t cycle)
     dram_port *p = user;
     const int64_t now = (int64_t)cycle;
     p->progress = 0;
+    /* Nothing in flight or offered: leave the controller at its last event (it catches
+     * up when work arrives or statistics are read), so a finished run's controller
+     * clock ends where the standalone driver's does. */
+    if (!dram_pending(p->c) && !p->ready_n && p->cur < 0 && ks_fifo_occupancy(p->req) == 0 &&
+        !(p->input_done && !p->drained))
+        return 0;
     dram_advance_to(p->c, now);
     deliver(p, now);
     /* end of input: as the standalone driver, the cycle after the last burst entered
@@ -231,6 +237,14 @@ static int step(void *user, uint64_t cycle)
         next = cycle + 1;
     else if (dram_pending(p->c))
         next = (uint64_t)dram_next_event(p->c);
+    /* a request still in flight in the FIFO (latency): wake at its ready time
+     * explicitly rather than rely on its written notification alone (an event keeps
+     * one pending notification, event.h) */
+    if (!p->ready_n && p->cur < 0 && ks_fifo_occupancy(p->req) && !ks_fifo_can_read(p->req)) {
+        const uint64_t k = ks_clock_cycle_at_or_after(p->clk, ks_fifo_head_ready_time(p->req));
+        if (k < next)
+            next = k;
+    }
     if (next == cycle + 1 && made == 0)
         made = 1; /* must run next cycle: stay awake (cheaper than a timer); counts as progress */
     if (next != UINT64_MAX && next != cycle + 1)

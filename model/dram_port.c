@@ -375,10 +375,20 @@ static int reg_formula(dram_port *p, ks_stats *st, const char *name, int which)
     return ks_stat_formula(st, full, unit, desc, port_stat, &p->refs[which]);
 }
 
-static int register_stats(dram_port *p, ks_stats *st)
+static int register_stats(dram_port *p, ks_stats *st, char *err, size_t errlen)
 {
     char num[128], den[128], full[128];
     const char *unit, *desc = item_desc("read_latency_mean", &unit);
+    /* refuse before registering anything: a half-registered module would leave the
+     * registry pointing into a freed struct */
+    for (const ks_desc_item *d = dram_port_desc.items; d->kind != KS_DESC_END; d++) {
+        double v;
+        snprintf(full, sizeof full, "%s.%s", p->name, d->name);
+        if (d->kind == KS_DESC_STAT && ks_stats_value(st, full, &v) == 0) {
+            snprintf(err, errlen, "%s: cannot register statistics: '%s' already exists", p->name, full);
+            return -1;
+        }
+    }
     int rc = 0;
     rc |= reg_counter(p, st, "requests", &p->n_req);
     rc |= reg_counter(p, st, "read_requests", &p->n_read_req);
@@ -405,6 +415,8 @@ static int register_stats(dram_port *p, ks_stats *st)
     rc |= reg_formula(p, st, "burst_read_latency_mean", PS_BURST_READ_LAT);
     if (p->power)
         rc |= reg_formula(p, st, "energy_uJ", PS_ENERGY_UJ);
+    if (rc)
+        snprintf(err, errlen, "%s: cannot register statistics: %s", p->name, ks_stats_error(st));
     return rc;
 }
 
@@ -441,8 +453,7 @@ dram_port *dram_port_create(ks_sim *sim, const char *name, const dram_spec *spec
         return NULL;
     }
     dram_set_cmd_sink(p->c, on_cmd, p);
-    if (stats && register_stats(p, stats)) {
-        snprintf(err, errlen, "%s: cannot register statistics: %s", name, ks_stats_error(stats));
+    if (stats && register_stats(p, stats, err, errlen)) {
         dram_port_destroy(p);
         return NULL;
     }

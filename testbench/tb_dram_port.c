@@ -594,8 +594,19 @@ static void stats_and_desc(void)
         ks_fifo *req2 = ks_fifo_create(sim, "m2.req", sizeof(dram_port_req), 2, 0, NULL);
         ks_fifo *resp2 = ks_fifo_create(sim, "m2.resp", sizeof(dram_port_resp), 2, 0, NULL);
         dram_port *q = dram_port_create(sim, "mem", &spec, &pw, req2, resp2, st, err, sizeof err);
-        TB_CHECK(q == NULL && strstr(err, "statistics") != NULL, "duplicate names accepted: %s", err);
+        TB_CHECK(q == NULL && strstr(err, "'mem.requests' already exists") != NULL, "duplicate names accepted: %s",
+                 err);
         dram_port_destroy(q);
+        /* a partial collision (one name taken by another unit) registers nothing */
+        ks_stats *st2 = ks_stats_create();
+        uint64_t *other = ks_stat_counter(st2, "mem2.cmd_rd", "commands", "another unit's counter");
+        ks_fifo *req3 = ks_fifo_create(sim, "m3.req", sizeof(dram_port_req), 2, 0, NULL);
+        ks_fifo *resp3 = ks_fifo_create(sim, "m3.resp", sizeof(dram_port_resp), 2, 0, NULL);
+        q = dram_port_create(sim, "mem2", &spec, &pw, req3, resp3, st2, err, sizeof err);
+        TB_CHECK(q == NULL && other != NULL && ks_stats_count(st2) == 1, "partial collision: %u statistics, %s",
+                 ks_stats_count(st2), err);
+        dram_port_destroy(q);
+        ks_stats_destroy(st2);
     }
     dram_port_destroy(p);
     ks_sim_destroy(sim);

@@ -49,9 +49,22 @@ ks_vcd_var *ks_vcd_var_enum(ks_vcd *vcd, const char *name, const char *const *na
 /* Sets the value at the sim's current time (bit: 0/1; int: masked to the
  * width; enum: index < n). */
 void ks__vcd_set(ks_vcd_var *var, uint64_t value);
+/* Private layout prefix of a variable, for the inline fast path. */
+struct ks__vcd_var_head {
+    const ks_time *now;
+    const ks_time *cur_t;
+    uint64_t value, mask;
+    uint8_t dirty;
+};
 static inline void ks_vcd_set(ks_vcd_var *var, uint64_t value)
 {
-    if (var)
+    if (!var)
+        return;
+    struct ks__vcd_var_head *h = (struct ks__vcd_var_head *)var;
+    /* already changed at this time: only the final value matters */
+    if (h->dirty && *h->now == *h->cur_t)
+        h->value = value & h->mask;
+    else
         ks__vcd_set(var, value);
 }
 /* Bytes written so far (including what is still buffered). */

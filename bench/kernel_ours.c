@@ -141,7 +141,9 @@ static uint64_t run_ring(uint64_t cycles, const char *vcd_path)
             item it = {(uint32_t)(i * 2 + k), 0, {0, 0, 0}};
             ks_fifo_write(f[i], &it);
         }
-    ks_sim_run(sim, (ks_time)cycles * ks_clock_period(clk) - 1);
+    /* items preloaded at time 0 are ready at cycle 1: cycles 1..N move items, as
+     * in the SystemC twin (whose stages preload at cycle 0) */
+    ks_sim_run(sim, (ks_time)(cycles + 1) * ks_clock_period(clk) - 1);
     uint64_t sum = 0;
     for (int i = 0; i < STAGES; i++)
         sum += st[i].moved;

@@ -12,6 +12,9 @@
  *    wake when it becomes readable; delta notification when latency is 0)
  *    and freed (delta notification after a read). Clocked processes
  *    registered with ks_clocked_wake_on() on them wake at the matching edge.
+ *    A method that starts waiting on one of them is notified from the
+ *    channel's state (an item becoming readable, free space), possibly
+ *    spuriously, never missing an item.
  *  - Statistics: max occupancy, time-weighted mean occupancy (identical with
  *    or without idle skipping), total writes/reads, rejected writes.
  *  - When a VCD writer is open on the sim, the occupancy is traced as

@@ -12,15 +12,13 @@ enum { VAR_BIT = 0, VAR_INT = 1, VAR_ENUM = 2 };
 
 struct ks_vcd_var {
     /* same prefix as struct ks__vcd_var_head (vcd.h inline fast path) */
-    const ks_time *now;
-    const ks_time *cur_t;
+    ks_vcd *vcd;
     uint64_t value;            /* current value */
     uint64_t mask;
     uint8_t dirty;             /* in the dirty list of the current time */
     /* private */
     uint8_t kind;
     uint8_t idlen;
-    ks_vcd *vcd;
     uint64_t emitted;          /* value as of the last time written out */
     char id[8];                /* padded: copied as 8 bytes */
     unsigned width;
@@ -31,8 +29,15 @@ struct ks_vcd_var {
 };
 
 struct ks_vcd {
-    ks_sim *sim;
+    /* same prefix as struct ks__vcd_head (vcd.h inline fast path) */
     const ks_time *now;
+    ks_time cur_t;             /* time of the changes in the dirty list */
+    ks_vcd_var **dirty;
+    unsigned n_dirty, cap_dirty;
+    uint8_t header_done;
+    /* private */
+    uint8_t started, ended, io_error;
+    ks_sim *sim;
     FILE *f;
     char *path, *tmp_path;
     int direct;
@@ -47,10 +52,6 @@ struct ks_vcd {
     size_t pos;
     uint64_t flushed;
     int64_t last_vt;
-    ks_time cur_t;             /* time of the changes in the dirty list */
-    ks_vcd_var **dirty;
-    unsigned n_dirty, cap_dirty;
-    uint8_t header_done, started, ended, io_error;
 };
 
 static char bin8[257][8]; /* one spare row: top-byte copies read past a row */
@@ -145,35 +146,40 @@ static inline char *put_bin(char *p, uint64_t v)
     return p;
 }
 
-static void emit_value(ks_vcd *d, const ks_vcd_var *v)
+static __attribute__((noinline)) void emit_enum(ks_vcd *d, const ks_vcd_var *v)
+{
+    const char *s = v->emitted < v->n_names && v->names[v->emitted] ? v->names[v->emitted] : "?";
+    size_t n = strlen(s);
+    if (n > 4096)
+        n = 4096;
+    ensure(d, n + 16);
+    char *p = d->buf + d->pos;
+    *p++ = 's';
+    for (size_t i = 0; i < n; i++)
+        *p++ = (s[i] == ' ' || s[i] == '\n' || s[i] == '\t') ? '_' : s[i];
+    *p++ = ' ';
+    memcpy(p, v->id, v->idlen);
+    p += v->idlen;
+    *p++ = '\n';
+    d->pos = (size_t)(p - d->buf);
+}
+
+static inline void emit_value(ks_vcd *d, const ks_vcd_var *v)
 {
     if (v->kind == VAR_ENUM) {
-        const char *s = v->emitted < v->n_names && v->names[v->emitted] ? v->names[v->emitted] : "?";
-        size_t n = strlen(s);
-        if (n > 4096)
-            n = 4096;
-        ensure(d, n + 16);
-        char *p = d->buf + d->pos;
-        *p++ = 's';
-        for (size_t i = 0; i < n; i++)
-            *p++ = (s[i] == ' ' || s[i] == '\n' || s[i] == '\t') ? '_' : s[i];
-        *p++ = ' ';
-        memcpy(p, v->id, v->idlen);
-        p += v->idlen;
-        *p++ = '\n';
-        d->pos = (size_t)(p - d->buf);
+        emit_enum(d, v);
         return;
     }
     ensure(d, 96);
     char *p = d->buf + d->pos;
-    if (v->kind == VAR_BIT) {
-        *p++ = (char)('0' + (v->emitted & 1));
-    } else {
+    if (v->kind == VAR_INT) {
         *p++ = 'b';
         p = put_bin(p, v->emitted);
         *p++ = ' ';
+    } else {
+        *p++ = (char)('0' + (v->emitted & 1));
     }
-    memcpy(p, v->id, 8);
+    memcpy(p, v->id, 8); /* padded: the extra bytes are overwritten next */
     p += v->idlen;
     *p++ = '\n';
     d->pos = (size_t)(p - d->buf);
@@ -437,8 +443,6 @@ static ks_vcd_var *declare(ks_vcd *d, const char *name, int kind, unsigned width
             return NULL; /* VCD identifiers cannot hold white space */
     ks_vcd_var *v = ks__xcalloc(1, sizeof *v);
     v->vcd = d;
-    v->now = d->now;
-    v->cur_t = &d->cur_t;
     v->kind = (uint8_t)kind;
     v->width = width;
     v->mask = width >= 64 ? UINT64_MAX : (((uint64_t)1 << width) - 1);

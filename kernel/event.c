@@ -74,6 +74,10 @@ void ks__event_notify_at_methods(ks_event *ev, ks_time when)
 
 void ks__event_queue_pending(ks_event *ev)
 {
+    if (ev->on_wait) {
+        ev->on_wait(ev, ev->on_wait_ctx);
+        return;
+    }
     if (ev->queued || ev->pending == KS_PEND_NONE)
         return;
     if (!ks__pending_live(ev)) {

@@ -44,6 +44,12 @@ typedef struct ks_event {
     uint8_t any_waiters;            /* has_methods || n_clocked */
     uint8_t queued;                 /* the pending notification has a queue entry */
     uint64_t pending_delta;         /* delta count when delta-notified */
+    /* Channel events (FIFOs) do not record notifications nobody waits for;
+     * instead on_wait re-derives them from the channel's state when a
+     * method starts waiting on the event. */
+    uint8_t no_record;
+    void (*on_wait)(struct ks_event *ev, void *ctx);
+    void *on_wait_ctx;
     uint64_t notify_count;          /* times it triggered (statistics, tests) */
 } ks_event;
 

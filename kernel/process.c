@@ -13,6 +13,9 @@ ks_method *ks__method_new(ks_sim *sim, const char *name, ks_method_fn fn, void *
     m->user = user;
     KS_GROW(sim->methods, sim->n_methods, sim->cap_methods);
     sim->methods[sim->n_methods++] = m;
+    /* the runnable list never needs more room than one slot per method */
+    while (sim->cap_run < sim->n_methods)
+        ks__grow_run(sim);
     return m;
 }
 

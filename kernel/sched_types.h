@@ -158,6 +158,14 @@ static inline void ks__make_runnable(ks_sim *sim, ks_method *m)
 /* Wakes the clocked waiters of an event at the next edge after now. */
 static inline void ks__wake_clocked_next(const ks_event *ev)
 {
+    if (ev->n_clocked == 1) { /* the usual case: one consumer or producer */
+        ks_clocked *p = ev->clocked[0];
+        if (p->clk->in_tick)
+            *p->woken_word |= p->bit;
+        else
+            ks__clocked_wake_after_now(p);
+        return;
+    }
     for (uint32_t i = 0; i < ev->n_clocked; i++) {
         ks_clocked *p = ev->clocked[i];
         ks_clock *c = p->clk;
@@ -171,6 +179,15 @@ static inline void ks__wake_clocked_next(const ks_event *ev)
 /* Wakes the clocked waiters of an event at the first edge at or after t > now. */
 static inline void ks__wake_clocked_at(const ks_event *ev, ks_time t)
 {
+    if (ev->n_clocked == 1) {
+        ks_clocked *p = ev->clocked[0];
+        ks_clock *c = p->clk;
+        if (c->in_tick && t == c->next_time)
+            *p->woken_word |= p->bit;
+        else
+            ks__clocked_wake_at_time(p, t);
+        return;
+    }
     for (uint32_t i = 0; i < ev->n_clocked; i++) {
         ks_clocked *p = ev->clocked[i];
         ks_clock *c = p->clk;
@@ -205,6 +222,8 @@ static inline __attribute__((always_inline)) void ks__event_notify_delta(ks_even
     if (ev->n_clocked)
         ks__wake_clocked_next(ev);
     if (!ev->has_methods) { /* record only; pending_key 0 voids a queued entry */
+        if (ev->no_record)
+            return;
         ev->pending = KS_PEND_DELTA;
         ev->pending_delta = ev->sim->deltas;
         ev->pending_key = 0;
@@ -237,6 +256,8 @@ static inline __attribute__((always_inline)) void ks__event_notify_at(ks_event *
         return;
     }
     /* record only (the queue key is drawn when a method starts waiting) */
+    if (ev->no_record)
+        return;
     if (ev->pending == KS_PEND_TIMED ? ev->pending_time > ev->sim->now && ev->pending_time <= when
                                      : ks__pending_live(ev))
         return;

@@ -233,6 +233,31 @@ static void test_occupancy_stats(void)
     ks_sim_destroy(sim);
     tb_end();
 
+    tb_begin("fifo_zero_copy_access");
+    sim = ks_sim_create();
+    f = ks_fifo_create(sim, "top.zc", 2 * sizeof(uint64_t), 2, 0, NULL);
+    for (uint64_t i = 0; i < 2; i++) {
+        uint64_t *slot = ks_fifo_write_slot(f);
+        TB_CHECK(slot != NULL, "no slot with room left");
+        if (slot) {
+            slot[0] = i;
+            slot[1] = 10 + i;
+            ks_fifo_commit(f);
+        }
+    }
+    TB_CHECK(ks_fifo_write_slot(f) == NULL, "slot offered while full");
+    TB_EQ_INT(ks_fifo_total_writes(f), 2);
+    const uint64_t *head = ks_fifo_peek(f);
+    TB_CHECK(head && head[0] == 0 && head[1] == 10, "peek");
+    TB_EQ_INT(ks_fifo_pop(f), 1);
+    head = ks_fifo_peek(f);
+    TB_CHECK(head && head[0] == 1 && head[1] == 11, "peek after pop");
+    TB_EQ_INT(ks_fifo_pop(f), 1);
+    TB_EQ_INT(ks_fifo_pop(f), 0);
+    TB_CHECK(ks_fifo_peek(f) == NULL, "peek on empty");
+    ks_sim_destroy(sim);
+    tb_end();
+
     tb_begin("fifo_bad_parameters_rejected");
     sim = ks_sim_create();
     TB_CHECK(!ks_fifo_create(sim, "top.z", 4, 0, 0, NULL), "capacity 0 accepted");

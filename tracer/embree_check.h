@@ -50,7 +50,8 @@ enum { RT_EMBREE_ROBUST = 1 };
 /* Builds the Embree scene of mesh (copied). NULL with a message on failure. */
 rt_embree *rt_embree_create(const rt_mesh *mesh, unsigned flags, char *err, size_t errlen);
 void rt_embree_free(rt_embree *e);
-/* Seconds the last rt_embree_create spent in rtcCommitScene (Embree's build). */
+/* Process CPU seconds rt_embree_create spent in rtcCommitScene (Embree's
+ * build; single-threaded, so equal to wall time on an idle machine). */
 double rt_embree_build_seconds(const rt_embree *e);
 
 /* Embree's closest hit for one ray (prim = RT_NO_HIT on a miss; t = tmax then). */

@@ -92,10 +92,10 @@ static inline float rt_maxf(float a, float b) { return a > b ? a : b; }
  * replaced tn and dropped tmin and the axes before it.) */
 static inline void rt_slab_axis(float t0, float t1, float *tn, float *tf)
 {
-    if (t0 != t0 || t1 != t1)
-        return;
-    *tn = rt_maxf(*tn, rt_minf(t0, t1));
-    *tf = rt_minf(*tf, rt_maxf(t0, t1));
+    const bool ordered = (t0 == t0) & (t1 == t1);   /* neither is NaN; & keeps it branch-free */
+    const float n = rt_maxf(*tn, rt_minf(t0, t1)), f = rt_minf(*tf, rt_maxf(t0, t1));
+    *tn = ordered ? n : *tn;
+    *tf = ordered ? f : *tf;
 }
 
 /* Slab test of one child box against [tmin, tmax]; on a hit *tnear is the

@@ -18,7 +18,14 @@
  *             counts the bit-identical subset (exact_t) and the one needing
  *             the error bound (t_bound)
  *   TIE       different primitives whose exact (double) ray-plane distances
- *             agree within 1e-6 relative: shared edge/vertex or coplanar overlap
+ *             agree within 1e-6 relative: a hit on (or, within our edge
+ *             rounding, next to) a shared edge or vertex
+ *   COPLANAR  the same, the two triangles lie in one plane (every vertex
+ *             of one within 4 float ulps of the largest coordinate of the
+ *             other's plane) and the hit point is inside both (beyond the
+ *             error bound below): overlapping coplanar faces, e.g. the
+ *             duplicated double-sided walls of real scenes; either answer is
+ *             right
  *   GAP       Embree hits P, our Wald test rejects P, and the exact hit point
  *             on P lies within the float error bound of Wald's edge functions
  *             of an edge of P: the watertightness gap of Wald's test
@@ -60,6 +67,7 @@ void rt_embree_intersect(const rt_embree *e, const rt_ray *ray, rt_hit *hit);
 typedef enum rt_embree_cause {
     RT_EMBREE_SAME,
     RT_EMBREE_TIE,
+    RT_EMBREE_COPLANAR,
     RT_EMBREE_GAP,
     RT_EMBREE_EDGE,
     RT_EMBREE_T_ROUND,

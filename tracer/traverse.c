@@ -90,6 +90,20 @@ bool rt_trace_ray(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray 
                 hits[i] = (stack_entry){cref, cmeta & RT_META_COUNT_MASK, tn};
             }
             if (nh > 0) {
+                /* Start fetching every hit child now: incoherent rays are
+                 * memory-bound, and the misses then overlap. No effect on
+                 * results. */
+                for (int i = 0; i < nh; i++) {
+                    if (hits[i].meta == 0) {
+                        const uint8_t *cn = nodes + (uint64_t)hits[i].ref * nbytes;
+                        __builtin_prefetch(cn);
+                        __builtin_prefetch(cn + nbytes - 1);
+                    } else {
+                        const uint8_t *ct = tris + (uint64_t)hits[i].ref * RT_TRI_BYTES;
+                        __builtin_prefetch(ct);
+                        __builtin_prefetch(ct + (uint64_t)hits[i].meta * RT_TRI_BYTES - 1);
+                    }
+                }
                 for (int i = nh - 1; i >= 1; i--) {
                     if (sp == depth) {
                         ok = false;

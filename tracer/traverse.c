@@ -125,8 +125,14 @@ bool rt_trace_ray(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray 
             if (fn)
                 emit(fn, user, RT_EV_LEAF, ref, meta, 0.0f);
             for (uint32_t i = 0; i < meta; i++) {
+                const uint8_t *tb = tris + (uint64_t)(ref + i) * RT_TRI_BYTES;
                 rt_tri48 tri;
-                rt_tri_decode(tris + (uint64_t)(ref + i) * RT_TRI_BYTES, &tri);
+                tri.n_u = load_f32(tb), tri.n_v = load_f32(tb + 4), tri.n_d = load_f32(tb + 8);
+                memcpy(&tri.k, tb + 12, 4);
+                tri.b_nu = load_f32(tb + 16), tri.b_nv = load_f32(tb + 20), tri.b_d = load_f32(tb + 24);
+                memcpy(&tri.prim, tb + 28, 4);
+                tri.c_nu = load_f32(tb + 32), tri.c_nv = load_f32(tb + 36), tri.c_d = load_f32(tb + 40);
+                memcpy(&tri.flags, tb + 44, 4);
                 c.tri_tests++;
                 float t, u, v;
                 const bool h = rt_wald_test(&tri, org, dir, tmin, closest, &t, &u, &v);

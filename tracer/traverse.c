@@ -30,8 +30,11 @@ static inline void emit(rt_trv_event_fn fn, void *user, rt_trv_event_kind kind, 
     fn(user, &ev);
 }
 
-bool rt_trace_ray(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray *ray, rt_hit *hit,
-                  rt_trv_counts *counts, rt_trv_event_fn fn, void *user)
+/* The traversal with the node width as a compile-time constant for the
+ * common widths (one inlined copy each, see rt_trace_ray). */
+static inline __attribute__((always_inline)) bool trace(const rt_bvh_image *img, const rt_trv_params *p,
+                                                        const rt_ray *ray, rt_hit *hit, rt_trv_counts *counts,
+                                                        rt_trv_event_fn fn, void *user, const int width)
 {
     stack_entry stack[4096];
     int depth = p->stack_depth;
@@ -39,7 +42,6 @@ bool rt_trace_ray(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray 
         depth = 4096;   /* the documented range is 1..4096 */
     if (depth < 1)
         depth = 1;
-    const int width = img->width;
     const bool cull = p->distance_cull;
     const uint8_t *nodes = img->bytes + img->node_base;
     const uint8_t *tris = img->bytes + img->tri_base;
@@ -171,4 +173,32 @@ out:
     if (counts)
         *counts = c;
     return ok;
+}
+
+static bool trace_w2(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray *ray, rt_hit *hit,
+                     rt_trv_counts *counts, rt_trv_event_fn fn, void *user)
+{
+    return trace(img, p, ray, hit, counts, fn, user, 2);
+}
+
+static bool trace_w4(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray *ray, rt_hit *hit,
+                     rt_trv_counts *counts, rt_trv_event_fn fn, void *user)
+{
+    return trace(img, p, ray, hit, counts, fn, user, 4);
+}
+
+static bool trace_any(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray *ray, rt_hit *hit,
+                      rt_trv_counts *counts, rt_trv_event_fn fn, void *user)
+{
+    return trace(img, p, ray, hit, counts, fn, user, img->width);
+}
+
+bool rt_trace_ray(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray *ray, rt_hit *hit,
+                  rt_trv_counts *counts, rt_trv_event_fn fn, void *user)
+{
+    if (img->width == 2)
+        return trace_w2(img, p, ray, hit, counts, fn, user);
+    if (img->width == 4)
+        return trace_w4(img, p, ray, hit, counts, fn, user);
+    return trace_any(img, p, ray, hit, counts, fn, user);
 }

@@ -38,6 +38,8 @@ static void buf_reserve(tlog_buf *b, size_t extra)
 }
 static void buf_put(tlog_buf *b, const void *data, size_t n)
 {
+    if (n == 0)
+        return;
     buf_reserve(b, n);
     if (b->oom)
         return;

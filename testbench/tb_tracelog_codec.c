@@ -356,7 +356,7 @@ static bool write_log(const char *path, const rt_bvh_image *img, int depth, bool
                       size_t errlen, rt_tlog_totals *tot)
 {
     rt_trv_params p = {depth, cull};
-    rt_tlog_info info = {0x1234, 0, 0, RT_TLOG_RAYS_OTHER, 4, 1};
+    rt_tlog_info info = {0x1234, 0, 0, RT_TLOG_RAYS_OTHER, 4, 1, false, {{0}, {0, 0, 0}, {0, 0, 0}, {0, 0, 0}, 0}, NULL};
     rt_tlog_writer *w = rt_tlog_writer_open(path, img, &p, &info, err, errlen);
     if (!w)
         return false;
@@ -382,7 +382,7 @@ static bool ev_eq(const rt_trv_event *a, const rt_trv_event *b)
  * differences (0 = identical), or -1 when the reader rejected it. */
 static long read_compare(const char *path, const rt_bvh_image *img, const traced *t, char *err, size_t errlen)
 {
-    rt_tlog_reader *r = rt_tlog_reader_open(path, img, NULL, err, errlen);
+    rt_tlog_reader *r = rt_tlog_reader_open(path, img, NULL, NULL, err, errlen);
     if (!r)
         return -1;
     long diffs = 0;
@@ -481,7 +481,7 @@ static void test_round_trip(void)
                 TB_CHECK(d == 0, "read back: %ld differences (%s)", d, d < 0 ? err : "");
                 rt_tlog_header h;
                 rt_tlog_totals rt;
-                TB_CHECK(rt_tlog_verify(path, &img, &h, &rt, err, sizeof err), "verify: %s", err);
+                TB_CHECK(rt_tlog_verify(path, &img, NULL, &h, &rt, err, sizeof err), "verify: %s", err);
                 TB_EQ_INT(h.ray_count, n);
                 TB_EQ_INT(h.bvh_width, widths[wi]);
                 TB_EQ_INT(h.distance_cull, cull);
@@ -528,7 +528,7 @@ static void test_empty_log(void)
     rt_tlog_totals tot, rt;
     const char *path = tmp_path("syn_empty.tlog");
     TB_CHECK(write_log(path, &img, 64, false, &t, err, sizeof err, &tot), "write: %s", err);
-    TB_CHECK(rt_tlog_verify(path, &img, NULL, &rt, err, sizeof err), "verify: %s", err);
+    TB_CHECK(rt_tlog_verify(path, &img, NULL, NULL, &rt, err, sizeof err), "verify: %s", err);
     TB_EQ_INT(rt.rays, 0);
     TB_EQ_INT(tot.file_bytes, RT_TLOG_HEADER_BYTES + RT_TLOG_END_BYTES);
     remove(path);
@@ -605,8 +605,8 @@ static void test_corruption(void)
             size_t n = rt_rng_below(&g, sizeof junk);
             for (size_t i = 0; i < n; i++)
                 junk[i] = (unsigned char)rt_rng_u32(&g);
-            if (round % 2 && n >= 96 && orig)
-                memcpy(junk, orig, 96);   /* a valid header followed by junk */
+            if (round % 2 && n >= RT_TLOG_HEADER_BYTES && orig)
+                memcpy(junk, orig, RT_TLOG_HEADER_BYTES);   /* a valid header followed by junk */
             spit(bad, junk, n);
             if (read_compare(bad, &img, &t, err, sizeof err) >= 0)
                 accepted++;
@@ -625,11 +625,12 @@ static void test_corruption(void)
         unsigned char *b = malloc(len);
         struct { size_t off; uint32_t val; const char *want; } cases[] = {
             {8, 2, "version 2"}, {12, 64, "header size"}, {16, 9, "width 9"}, {20, 0, "stack depth 0"},
-            {24, 6, "unknown flags"}, {36, 7, "ray kind 7"}, {76, 1, "reserved"}};
+            {24, 6, "unknown flags"}, {36, 7, "ray kind 7"}, {76, 1, "reserved"}, {128, 1, "reserved"},
+            {100, 1, "camera fields set without the camera flag"}};
         for (size_t c = 0; c < sizeof cases / sizeof cases[0]; c++) {
             memcpy(b, orig, len);
             rt_tlog_put_u32(b + cases[c].off, cases[c].val);
-            rt_tlog_put_u32(b + 92, (uint32_t)crc32(0L, b, 92));   /* a consistent but wrong header */
+            rt_tlog_put_u32(b + 132, (uint32_t)crc32(0L, b, 132));   /* a consistent but wrong header */
             spit(bad, b, len);
             TB_CHECK(read_compare(bad, &img, &t, err, sizeof err) < 0 && strstr(err, cases[c].want),
                      "field at %zu: got: %s", cases[c].off, err);
@@ -637,7 +638,7 @@ static void test_corruption(void)
         /* header ray count disagreeing with the end record */
         memcpy(b, orig, len);
         rt_tlog_put_u64(b + 56, 41);
-        rt_tlog_put_u32(b + 92, (uint32_t)crc32(0L, b, 92));
+        rt_tlog_put_u32(b + 132, (uint32_t)crc32(0L, b, 132));
         spit(bad, b, len);
         TB_CHECK(read_compare(bad, &img, &t, err, sizeof err) < 0 && strstr(err, "header says 41 rays"), "got: %s",
                  err);
@@ -759,7 +760,8 @@ static void test_writer_rejects_non_traversals(void)
             else
                 m.e[p].kind = RT_EV_POP;                                   /* a POP where a PUSH belongs */
             rt_trv_params prm = {64, true};
-            rt_tlog_info info = {0};
+            rt_tlog_info info;
+            memset(&info, 0, sizeof info);
             char err[800];
             rt_tlog_writer *w = rt_tlog_writer_open(path, &img, &prm, &info, err, sizeof err);
             rt_tlog_ray_begin(w, &t.rays[ri - 1]);

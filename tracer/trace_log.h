@@ -33,6 +33,7 @@
 #include "tracer/bvh.h"
 #include "tracer/ray.h"
 #include "tracer/traverse.h"
+#include "tracer/view.h"
 
 #ifdef __cplusplus
 extern "C" {
@@ -40,18 +41,27 @@ extern "C" {
 
 #define RT_TLOG_MAGIC "RTSIMTLG"     /* 8 bytes at offset 0 */
 #define RT_TLOG_VERSION 1u
-#define RT_TLOG_HEADER_BYTES 96u
+#define RT_TLOG_HEADER_BYTES 136u
 
 enum rt_tlog_ray_kind { RT_TLOG_RAYS_PRIMARY = 0, RT_TLOG_RAYS_DIFFUSE = 1, RT_TLOG_RAYS_OTHER = 2 };
 
 /* Header fields the writer is given (image-derived ones are filled in from
- * the image and the traversal parameters). */
+ * the image and the traversal parameters).
+ * Ray derivation: a ray that equals, bit for bit, the camera's primary ray
+ * of its pixel (view given, res_width x res_height) or rt_bounce_ray of the
+ * ray logged just before it (mesh given, seed, max_bounces) is stored as
+ * "derived" in a byte or two instead of its 32 bytes of floats: log a path's
+ * rays one after the other (primary, bounce 1, ...) to profit. A log with
+ * bounce-derived rays can only be read with the mesh. */
 typedef struct rt_tlog_info {
     uint64_t mesh_hash;          /* rt_mesh_hash of the scene */
     uint32_t res_width, res_height;
     uint32_t ray_kind;           /* rt_tlog_ray_kind */
     uint32_t max_bounces;
     uint64_t seed;
+    bool has_view;               /* view holds the camera of the primary rays */
+    rt_view view;                /* name not stored */
+    const rt_mesh *mesh;         /* writer only: enables bounce derivation (must outlive the writer) */
 } rt_tlog_info;
 
 /* The header as read back. */
@@ -69,6 +79,7 @@ typedef struct rt_tlog_header {
 /* Totals over the whole log (also the end record's content). */
 typedef struct rt_tlog_totals {
     uint64_t rays, visits, pushes, pops, culls, leaves, tri_tests, hits, overflows;
+    uint64_t rays_camera, rays_bounce;   /* rays stored as derived (not in the end record) */
     uint64_t events;
     uint64_t stream_hash;         /* FNV-1a 64 over every ray's fields and its events' kind, a, b, t bits */
     uint64_t blocks;
@@ -102,9 +113,11 @@ void rt_tlog_writer_abort(rt_tlog_writer *w);
 typedef struct rt_tlog_reader rt_tlog_reader;
 
 /* Opens a log and validates its header (magic, version, fields, CRC) and
- * that it belongs to img (hash, width, node and triangle counts). */
-rt_tlog_reader *rt_tlog_reader_open(const char *path, const rt_bvh_image *img, rt_tlog_header *hdr,
-                                    char *err, size_t errlen);
+ * that it belongs to img (hash, width, node and triangle counts) and, when
+ * mesh is given, to mesh (rt_mesh_hash); mesh may be NULL unless the log has
+ * bounce-derived rays (then reading one is an error naming the problem). */
+rt_tlog_reader *rt_tlog_reader_open(const char *path, const rt_bvh_image *img, const rt_mesh *mesh,
+                                    rt_tlog_header *hdr, char *err, size_t errlen);
 
 /* One ray read back: its id, the ray, the derived hit and counts. */
 typedef struct rt_tlog_ray {
@@ -126,8 +139,8 @@ void rt_tlog_reader_totals(const rt_tlog_reader *r, rt_tlog_totals *t);
 void rt_tlog_reader_close(rt_tlog_reader *r);
 
 /* Reads and validates a whole log against img; totals on success. */
-bool rt_tlog_verify(const char *path, const rt_bvh_image *img, rt_tlog_header *hdr, rt_tlog_totals *totals,
-                    char *err, size_t errlen);
+bool rt_tlog_verify(const char *path, const rt_bvh_image *img, const rt_mesh *mesh, rt_tlog_header *hdr,
+                    rt_tlog_totals *totals, char *err, size_t errlen);
 
 #ifdef __cplusplus
 }

@@ -8,20 +8,24 @@
  *          24 flags (bit 0 distance cull) | 28 nnodes | 32 ntris | 36 ray_kind
  *          40 image_hash u64 | 48 mesh_hash u64 | 56 ray_count u64 | 64 res_width
  *          68 res_height | 72 max_bounces | 76 reserved 0 | 80 seed u64
- *          88 reserved 0 | 92 crc32 of bytes 0..91              (u32 unless noted)
+ *          88 camera: eye xyz, at xyz, up xyz, fov (10 float32; flags bit 1 = present)
+ *          128 reserved 0 | 132 crc32 of bytes 0..131           (u32 unless noted)
  * Block:   0 "RTLB" | 4 nrays | 8 first_ray_id u64 | 16 raw_len | 20 comp_len
  *          24 crc32 of the payload | 28 crc32 of bytes 0..27 | 32 payload
  *          (zlib stream of raw_len bytes of ray records)
  * End:     0 "RTLE" | 4 reserved 0 | 8 blocks u64 | 16 rays | 24 visits | 32 pushes
  *          40 pops | 48 culls | 56 leaves | 64 tri_tests | 72 hits | 80 overflows
  *          88 events | 96 stream_hash (all u64; FNV-1a of rays and events, below) | 104 crc32 of bytes 0..103; then EOF.
- * Ray record (raw, in a block; "prev" = previous ray of the same block, 0 at
- * the block's start):
+ * Ray record (raw, in a block; "prev" = the previous ray of the log, 0 for
+ * the first):
  *   varint zigzag(pixel - prev pixel)
  *   u8 flags: bits 0..2 bounce (7 = a u8 bounce follows), bit 3 tmin bits
  *      follow, bit 4 tmax bits follow (absent: tmin = 0, tmax = RT_RAY_TMAX),
- *      bit 5 the stack overflowed (a varint event count follows); 6..7 zero
- *   [u8 bounce] 6 x u32: org, dir float bits XOR prev's   [u32 tmin] [u32 tmax]
+ *      bit 5 the stack overflowed (a varint event count follows), bits 6..7
+ *      source: 0 stored, 1 the camera's primary ray of the pixel, 2
+ *      rt_bounce_ray of the previous ray (derived: no float fields follow)
+ *   [u8 bounce] [6 x u32: org, dir float bits XOR the previous stored ray's
+ *   [u32 tmin] [u32 tmax]]   (stored rays only)
  *   [varint events]   varint n_visits   varint n_bits
  *   n_visits codes: u8 mask of hit slots; when >= 2 are hit, the Lehmer index
  *      of their order (closest first) among them in slot order: u8 for up to
@@ -46,10 +50,23 @@
 #define RT_TLOG_END_BYTES 108u
 #define RT_TLOG_BLOCK_RAW_MAX (64u * 1024u * 1024u)  /* reader's limit on one block's raw size */
 #define RT_TLOG_FLAG_DISTANCE_CULL 1u
+#define RT_TLOG_FLAG_CAMERA 2u
 #define RT_TLOG_RF_BOUNCE_MASK 7u
 #define RT_TLOG_RF_TMIN 8u
 #define RT_TLOG_RF_TMAX 16u
 #define RT_TLOG_RF_OVERFLOW 32u
+#define RT_TLOG_RF_SOURCE_SHIFT 6
+#define RT_TLOG_SRC_STORED 0u
+#define RT_TLOG_SRC_CAMERA 1u
+#define RT_TLOG_SRC_BOUNCE 2u
+
+/* Bit-exact equality of two rays (all fields). */
+static inline bool rt_tlog_same_ray(const rt_ray *a, const rt_ray *b)
+{
+    return memcmp(&a->org, &b->org, sizeof a->org) == 0 && memcmp(&a->dir, &b->dir, sizeof a->dir) == 0 &&
+           memcmp(&a->tmin, &b->tmin, 4) == 0 && memcmp(&a->tmax, &b->tmax, 4) == 0 && a->pixel == b->pixel &&
+           a->bounce == b->bounce;
+}
 
 static inline void rt_tlog_put_u32(uint8_t *p, uint32_t v)
 {

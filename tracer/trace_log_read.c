@@ -14,6 +14,7 @@
 #include <zlib.h>
 
 #include "tracer/trace_log.h"
+#include "tracer/bounce.h"
 #include "tracer/camera.h"
 #include "tracer/trace_log_format.h"
 
@@ -26,7 +27,13 @@ struct rt_tlog_reader {
     FILE *f;
     char *path;
     const rt_bvh_image *img;
+    const rt_mesh *mesh;
     rt_tlog_header hdr;
+    bool has_cam;
+    rt_camera cam;
+    rt_ray prev_ray;
+    rt_hit prev_hit;
+    bool prev_complete;
     uint64_t off;          /* file offset of the next unread byte */
     int state;             /* 0 reading, 1 finished, -1 failed */
     char msg[700];         /* the failure, repeated by later calls */
@@ -77,8 +84,8 @@ static bool grow(uint8_t **p, size_t *cap, size_t need)
     return true;
 }
 
-rt_tlog_reader *rt_tlog_reader_open(const char *path, const rt_bvh_image *img, rt_tlog_header *hdr,
-                                    char *err, size_t errlen)
+rt_tlog_reader *rt_tlog_reader_open(const char *path, const rt_bvh_image *img, const rt_mesh *mesh,
+                                    rt_tlog_header *hdr, char *err, size_t errlen)
 {
     rt_tlog_reader *r = calloc(1, sizeof *r);
     size_t pl = strlen(path);
@@ -89,6 +96,7 @@ rt_tlog_reader *rt_tlog_reader_open(const char *path, const rt_bvh_image *img, r
     }
     memcpy(r->path, path, pl + 1);
     r->img = img;
+    r->mesh = mesh;
     r->tot.stream_hash = RT_TLOG_FNV_OFFSET;
     r->f = fopen(path, "rb");
     if (!r->f) {
@@ -109,8 +117,8 @@ rt_tlog_reader *rt_tlog_reader_open(const char *path, const rt_bvh_image *img, r
     } else if (rt_tlog_get_u32(h + 8) != RT_TLOG_VERSION) {
         bad = fail(r, err, errlen, 8, "format version %u, this reader reads version %u", rt_tlog_get_u32(h + 8),
                    RT_TLOG_VERSION);
-    } else if (rt_tlog_get_u32(h + 92) != (uint32_t)crc32(0L, h, 92)) {
-        bad = fail(r, err, errlen, 92, "header checksum mismatch (header corrupt)");
+    } else if (rt_tlog_get_u32(h + 132) != (uint32_t)crc32(0L, h, 132)) {
+        bad = fail(r, err, errlen, 132, "header checksum mismatch (header corrupt)");
     }
     if (bad) {
         rt_tlog_reader_close(r);
@@ -138,12 +146,15 @@ rt_tlog_reader *rt_tlog_reader_open(const char *path, const rt_bvh_image *img, r
         bad = fail(r, err, errlen, 16, "BVH width %u out of range %d..%d", H->bvh_width, RT_WIDTH_MIN, RT_WIDTH_MAX);
     else if (H->stack_depth < 1 || H->stack_depth > 4096)
         bad = fail(r, err, errlen, 20, "stack depth %u out of range 1..4096", H->stack_depth);
-    else if (flags & ~RT_TLOG_FLAG_DISTANCE_CULL)
+    else if (flags & ~(RT_TLOG_FLAG_DISTANCE_CULL | RT_TLOG_FLAG_CAMERA))
         bad = fail(r, err, errlen, 24, "unknown flags 0x%x", flags);
     else if (H->info.ray_kind > RT_TLOG_RAYS_OTHER)
         bad = fail(r, err, errlen, 36, "ray kind %u out of range 0..2", H->info.ray_kind);
-    else if (rt_tlog_get_u32(h + 76) != 0 || rt_tlog_get_u32(h + 88) != 0)
+    else if (rt_tlog_get_u32(h + 76) != 0 || rt_tlog_get_u32(h + 128) != 0)
         bad = fail(r, err, errlen, 76, "reserved header fields are not zero");
+    else if (mesh && rt_mesh_hash(mesh) != H->info.mesh_hash)
+        bad = fail(r, err, errlen, 48, "log is for mesh hash %016" PRIx64 ", the given mesh has hash %016" PRIx64,
+                   H->info.mesh_hash, rt_mesh_hash(mesh));
     else if (H->image_hash != img->hash)
         bad = fail(r, err, errlen, 40,
                    "log is for BVH image hash %016" PRIx64 ", the given image has hash %016" PRIx64
@@ -152,6 +163,30 @@ rt_tlog_reader *rt_tlog_reader_open(const char *path, const rt_bvh_image *img, r
     else if (H->bvh_width != (uint32_t)img->width || H->nnodes != img->nnodes || H->ntris != img->ntris)
         bad = fail(r, err, errlen, 16, "log is for a width-%u BVH of %u nodes and %u triangles, the image has %d, %u, %u",
                    H->bvh_width, H->nnodes, H->ntris, img->width, img->nnodes, img->ntris);
+    if (!bad) {
+        float f[10];
+        bool zero = true;
+        for (int i = 0; i < 10; i++) {
+            f[i] = rt_tlog_bits_float(rt_tlog_get_u32(h + 88 + 4 * i));
+            zero = zero && rt_tlog_get_u32(h + 88 + 4 * i) == 0;
+        }
+        H->info.has_view = (flags & RT_TLOG_FLAG_CAMERA) != 0;
+        if (H->info.has_view) {
+            rt_view *v = &H->info.view;
+            memset(v, 0, sizeof *v);
+            snprintf(v->name, sizeof v->name, "log");
+            v->eye = (rt_vec3){f[0], f[1], f[2]};
+            v->at = (rt_vec3){f[3], f[4], f[5]};
+            v->up = (rt_vec3){f[6], f[7], f[8]};
+            v->fov_deg = f[9];
+            char cerr[300];
+            if (!rt_camera_init(&r->cam, v, H->info.res_width, H->info.res_height, cerr, sizeof cerr))
+                bad = fail(r, err, errlen, 88, "camera: %s", cerr);
+            r->has_cam = !bad;
+        } else if (!zero) {
+            bad = fail(r, err, errlen, 88, "camera fields set without the camera flag");
+        }
+    }
     if (!bad) {
         r->stack = calloc((size_t)H->stack_depth + 2, sizeof *r->stack);
         if (!r->stack)
@@ -258,8 +293,6 @@ static int read_block(rt_tlog_reader *r, const uint8_t *first4, char *err, size_
     r->pos = 0;
     r->block_off = at;
     r->rays_left = r->block_rays = nrays;
-    r->prev_pixel = 0;
-    memset(r->prev_bits, 0, sizeof r->prev_bits);
     r->tot.blocks++;
     return 1;
 }
@@ -390,7 +423,7 @@ static int replay_ray(replay *rp, const rt_ray *ray, rt_hit *hit, uint64_t at, c
             for (int s = 0; s < width; s++) {
                 rt_node_child(node, s, &ch[s]);
                 if (rt_child_empty(&ch[s]))
-                    continue;
+                    break;   /* used slots come first (bvh_layout.h) */
                 c->box_tests++;
                 if (rt_slab_test(&prep, ch[s].lo, ch[s].hi, ray->tmin, closest, &tn[s]))
                     hitmask |= 1u << s;
@@ -585,22 +618,50 @@ int rt_tlog_read_ray(rt_tlog_reader *r, rt_tlog_ray *out, rt_trv_event_fn fn, vo
         TRUNC("pixel out of range");
     if (!cur_u8(&c, &flags))
         TRUNC("record truncated (flags)");
-    if (flags & 0xC0)
-        TRUNC("unknown ray flags");
+    const uint32_t src = (uint32_t)flags >> RT_TLOG_RF_SOURCE_SHIFT;
+    if (src > RT_TLOG_SRC_BOUNCE)
+        TRUNC("unknown ray source");
     bounce = flags & RT_TLOG_RF_BOUNCE_MASK;
     if (bounce == RT_TLOG_RF_BOUNCE_MASK && (!cur_u8(&c, &bounce) || bounce < RT_TLOG_RF_BOUNCE_MASK))
         TRUNC("bad bounce number");
     uint32_t bits[6], tminb = 0, tmaxb = rt_tlog_float_bits(RT_RAY_TMAX);
-    for (int k = 0; k < 6; k++) {
-        uint32_t x;
-        if (!cur_u32(&c, &x))
-            TRUNC("record truncated (ray)");
-        bits[k] = x ^ r->prev_bits[k];
+    rt_ray derived;
+    memset(&derived, 0, sizeof derived);
+    if (src != RT_TLOG_SRC_STORED && (flags & (RT_TLOG_RF_TMIN | RT_TLOG_RF_TMAX)))
+        TRUNC("derived ray with stored tmin/tmax");
+    if (src == RT_TLOG_SRC_STORED) {
+        for (int k = 0; k < 6; k++) {
+            uint32_t x;
+            if (!cur_u32(&c, &x))
+                TRUNC("record truncated (ray)");
+            bits[k] = x ^ r->prev_bits[k];
+        }
+        if ((flags & RT_TLOG_RF_TMIN) && !cur_u32(&c, &tminb))
+            TRUNC("record truncated (tmin)");
+        if ((flags & RT_TLOG_RF_TMAX) && !cur_u32(&c, &tmaxb))
+            TRUNC("record truncated (tmax)");
+    } else if (src == RT_TLOG_SRC_CAMERA) {
+        if (!r->has_cam)
+            TRUNC("camera-derived ray in a log without a camera");
+        if (bounce != 0)
+            TRUNC("camera-derived ray with a bounce number");
+        derived = rt_camera_primary_ray(&r->cam, (uint32_t)pixel % r->cam.width, (uint32_t)pixel / r->cam.width);
+    } else {
+        if (!r->mesh)
+            TRUNC("bounce-derived ray: reading this log needs the scene's mesh");
+        if (r->tot.rays == 0 || !r->prev_complete ||
+            !rt_bounce_ray(r->mesh, &r->prev_ray, &r->prev_hit, r->hdr.info.seed, r->hdr.info.max_bounces, &derived))
+            TRUNC("bounce-derived ray without a previous ray that bounces");
+        if (derived.pixel != (uint32_t)pixel || derived.bounce != bounce)
+            TRUNC("bounce-derived ray's pixel or bounce differs from the previous ray's path");
     }
-    if ((flags & RT_TLOG_RF_TMIN) && !cur_u32(&c, &tminb))
-        TRUNC("record truncated (tmin)");
-    if ((flags & RT_TLOG_RF_TMAX) && !cur_u32(&c, &tmaxb))
-        TRUNC("record truncated (tmax)");
+    if (src != RT_TLOG_SRC_STORED) {
+        const float v[6] = {derived.org.x, derived.org.y, derived.org.z, derived.dir.x, derived.dir.y, derived.dir.z};
+        for (int k = 0; k < 6; k++)
+            bits[k] = rt_tlog_float_bits(v[k]);
+        tminb = rt_tlog_float_bits(derived.tmin);
+        tmaxb = rt_tlog_float_bits(derived.tmax);
+    }
     if ((flags & RT_TLOG_RF_OVERFLOW) && !cur_varint(&c, &nevents))
         TRUNC("record truncated (event count)");
     if (!cur_varint(&c, &nvisits) || !cur_varint(&c, &nbits))
@@ -676,7 +737,13 @@ int rt_tlog_read_ray(rt_tlog_reader *r, rt_tlog_ray *out, rt_trv_event_fn fn, vo
     o.counts = rp.counts;
     r->pos = c.pos;
     r->prev_pixel = o.ray.pixel;
-    memcpy(r->prev_bits, bits, sizeof bits);
+    if (src == RT_TLOG_SRC_STORED)
+        memcpy(r->prev_bits, bits, sizeof bits);
+    r->prev_ray = o.ray;
+    r->prev_hit = o.hit;
+    r->prev_complete = !o.overflowed;
+    r->tot.rays_camera += src == RT_TLOG_SRC_CAMERA;
+    r->tot.rays_bounce += src == RT_TLOG_SRC_BOUNCE;
     r->rays_left--;
     r->tot.rays++;
     r->tot.visits += o.counts.visits;
@@ -700,10 +767,10 @@ int rt_tlog_read_ray(rt_tlog_reader *r, rt_tlog_ray *out, rt_trv_event_fn fn, vo
 #undef TRUNC
 }
 
-bool rt_tlog_verify(const char *path, const rt_bvh_image *img, rt_tlog_header *hdr, rt_tlog_totals *totals,
-                    char *err, size_t errlen)
+bool rt_tlog_verify(const char *path, const rt_bvh_image *img, const rt_mesh *mesh, rt_tlog_header *hdr,
+                    rt_tlog_totals *totals, char *err, size_t errlen)
 {
-    rt_tlog_reader *r = rt_tlog_reader_open(path, img, hdr, err, errlen);
+    rt_tlog_reader *r = rt_tlog_reader_open(path, img, mesh, hdr, err, errlen);
     if (!r)
         return false;
     int s;

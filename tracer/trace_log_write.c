@@ -12,6 +12,7 @@
 #include <zlib.h>
 
 #include "tracer/trace_log.h"
+#include "tracer/bounce.h"
 #include "tracer/camera.h"
 #include "tracer/trace_log_format.h"
 
@@ -91,6 +92,12 @@ struct rt_tlog_writer {
     uint32_t block_rays;
     uint64_t block_first;
     uint32_t prev_pixel, prev_bits[6];
+    /* ray derivation */
+    bool has_cam;
+    rt_camera cam;
+    rt_ray prev_ray;
+    rt_hit prev_hit, cur_hit;
+    bool prev_complete;     /* the previous ray ended with DONE: its hit is known */
     uint32_t block_bytes;
     rt_tlog_totals tot;
     uint64_t offset;   /* bytes written so far */
@@ -104,7 +111,8 @@ static void header_bytes(const rt_tlog_writer *w, uint8_t h[RT_TLOG_HEADER_BYTES
     rt_tlog_put_u32(h + 12, RT_TLOG_HEADER_BYTES);
     rt_tlog_put_u32(h + 16, (uint32_t)w->img->width);
     rt_tlog_put_u32(h + 20, (uint32_t)w->trv.stack_depth);
-    rt_tlog_put_u32(h + 24, w->trv.distance_cull ? RT_TLOG_FLAG_DISTANCE_CULL : 0u);
+    rt_tlog_put_u32(h + 24, (w->trv.distance_cull ? RT_TLOG_FLAG_DISTANCE_CULL : 0u) |
+                                (w->has_cam ? RT_TLOG_FLAG_CAMERA : 0u));
     rt_tlog_put_u32(h + 28, w->img->nnodes);
     rt_tlog_put_u32(h + 32, w->img->ntris);
     rt_tlog_put_u32(h + 36, w->info.ray_kind);
@@ -115,7 +123,13 @@ static void header_bytes(const rt_tlog_writer *w, uint8_t h[RT_TLOG_HEADER_BYTES
     rt_tlog_put_u32(h + 68, w->info.res_height);
     rt_tlog_put_u32(h + 72, w->info.max_bounces);
     rt_tlog_put_u64(h + 80, w->info.seed);
-    rt_tlog_put_u32(h + 92, (uint32_t)crc32(0L, h, 92));
+    if (w->has_cam) {
+        const rt_view *v = &w->info.view;
+        const float f[10] = {v->eye.x, v->eye.y, v->eye.z, v->at.x, v->at.y, v->at.z, v->up.x, v->up.y, v->up.z, v->fov_deg};
+        for (int i = 0; i < 10; i++)
+            rt_tlog_put_u32(h + 88 + 4 * i, rt_tlog_float_bits(f[i]));
+    }
+    rt_tlog_put_u32(h + 132, (uint32_t)crc32(0L, h, 132));
 }
 
 static void free_writer(rt_tlog_writer *w)
@@ -155,6 +169,15 @@ rt_tlog_writer *rt_tlog_writer_open(const char *path, const rt_bvh_image *img, c
     w->img = img;
     w->trv = *trv;
     w->info = *info;
+    if (info->has_view) {
+        char cerr[300];
+        if (!rt_camera_init(&w->cam, &info->view, info->res_width, info->res_height, cerr, sizeof cerr)) {
+            snprintf(err, errlen, "%s: camera for ray derivation: %s", path, cerr);
+            free_writer(w);
+            return NULL;
+        }
+        w->has_cam = true;
+    }
     size_t pl = strlen(path);
     w->path = malloc(pl + 1);
     w->tmp = malloc(pl + 32);
@@ -387,6 +410,9 @@ static bool walk_events(rt_tlog_writer *w, bool overflowed, rt_trv_counts *c, ui
                 if (overflowed)
                     WALK_FAIL("overflow reported for a completed traversal");
                 *hit = prim != RT_NO_HIT;
+                w->cur_hit.prim = prim;
+                w->cur_hit.t = e[i].t;
+                w->cur_hit.u = w->cur_hit.v = 0.0f;
                 return true;
             }
             const stack_entry top = w->stack[--sp];
@@ -445,8 +471,6 @@ static bool flush_block(rt_tlog_writer *w, char *err, size_t errlen)
     w->tot.blocks++;
     w->raw.len = 0;
     w->block_rays = 0;
-    w->prev_pixel = 0;
-    memset(w->prev_bits, 0, sizeof w->prev_bits);
     return true;
 }
 
@@ -477,32 +501,52 @@ bool rt_tlog_ray_end(rt_tlog_writer *w, bool overflowed, char *err, size_t errle
         w->broken = true;
         return false;
     }
-    /* the ray record */
+    /* the ray record: derived from the camera or the previous ray when it
+     * is bit-identical to what they give, else stored */
     const rt_ray *r = &w->ray;
+    uint32_t src = RT_TLOG_SRC_STORED;
+    rt_ray cand;
+    if (w->has_cam && r->bounce == 0 && r->pixel / w->cam.width < w->cam.height) {
+        cand = rt_camera_primary_ray(&w->cam, r->pixel % w->cam.width, r->pixel / w->cam.width);
+        if (rt_tlog_same_ray(&cand, r))
+            src = RT_TLOG_SRC_CAMERA;
+    }
+    if (src == RT_TLOG_SRC_STORED && w->info.mesh && w->prev_complete && w->tot.rays > 0 &&
+        rt_bounce_ray(w->info.mesh, &w->prev_ray, &w->prev_hit, w->info.seed, w->info.max_bounces, &cand) &&
+        rt_tlog_same_ray(&cand, r))
+        src = RT_TLOG_SRC_BOUNCE;
     tlog_buf *b = &w->raw;
     buf_varint(b, rt_tlog_zigzag((int64_t)r->pixel - (int64_t)w->prev_pixel));
     w->prev_pixel = r->pixel;
     uint32_t tminb = rt_tlog_float_bits(r->tmin), tmaxb = rt_tlog_float_bits(r->tmax);
     uint8_t flags = r->bounce < RT_TLOG_RF_BOUNCE_MASK ? r->bounce : RT_TLOG_RF_BOUNCE_MASK;
-    if (tminb != 0)
+    if (src == RT_TLOG_SRC_STORED && tminb != 0)
         flags |= RT_TLOG_RF_TMIN;
-    if (tmaxb != rt_tlog_float_bits(RT_RAY_TMAX))
+    if (src == RT_TLOG_SRC_STORED && tmaxb != rt_tlog_float_bits(RT_RAY_TMAX))
         flags |= RT_TLOG_RF_TMAX;
     if (overflowed)
         flags |= RT_TLOG_RF_OVERFLOW;
+    flags |= (uint8_t)(src << RT_TLOG_RF_SOURCE_SHIFT);
     buf_u8(b, flags);
     if ((flags & RT_TLOG_RF_BOUNCE_MASK) == RT_TLOG_RF_BOUNCE_MASK)
         buf_u8(b, r->bounce);
-    const float v[6] = {r->org.x, r->org.y, r->org.z, r->dir.x, r->dir.y, r->dir.z};
-    for (int k = 0; k < 6; k++) {
-        uint32_t bits = rt_tlog_float_bits(v[k]);
-        buf_u32(b, bits ^ w->prev_bits[k]);
-        w->prev_bits[k] = bits;
+    if (src == RT_TLOG_SRC_STORED) {
+        const float v[6] = {r->org.x, r->org.y, r->org.z, r->dir.x, r->dir.y, r->dir.z};
+        for (int k = 0; k < 6; k++) {
+            uint32_t bits = rt_tlog_float_bits(v[k]);
+            buf_u32(b, bits ^ w->prev_bits[k]);
+            w->prev_bits[k] = bits;
+        }
+        if (flags & RT_TLOG_RF_TMIN)
+            buf_u32(b, tminb);
+        if (flags & RT_TLOG_RF_TMAX)
+            buf_u32(b, tmaxb);
     }
-    if (flags & RT_TLOG_RF_TMIN)
-        buf_u32(b, tminb);
-    if (flags & RT_TLOG_RF_TMAX)
-        buf_u32(b, tmaxb);
+    w->tot.rays_camera += src == RT_TLOG_SRC_CAMERA;
+    w->tot.rays_bounce += src == RT_TLOG_SRC_BOUNCE;
+    w->prev_ray = *r;
+    w->prev_hit = w->cur_hit;
+    w->prev_complete = !overflowed;
     if (overflowed)
         buf_varint(b, w->nev);
     buf_varint(b, nvisits);

@@ -115,7 +115,8 @@ typedef struct rt_tlog_reader rt_tlog_reader;
 /* Opens a log and validates its header (magic, version, fields, CRC) and
  * that it belongs to img (hash, width, node and triangle counts) and, when
  * mesh is given, to mesh (rt_mesh_hash); mesh may be NULL unless the log has
- * bounce-derived rays (then reading one is an error naming the problem). */
+ * bounce-derived rays (then reading one is an error naming the problem).
+ * img NULL: header checks only (rt_tlog_read_ray then fails). */
 rt_tlog_reader *rt_tlog_reader_open(const char *path, const rt_bvh_image *img, const rt_mesh *mesh,
                                     rt_tlog_header *hdr, char *err, size_t errlen);
 
@@ -137,6 +138,10 @@ int rt_tlog_read_ray(rt_tlog_reader *r, rt_tlog_ray *out, rt_trv_event_fn fn, vo
 /* Totals of what has been read so far (equal to the end record after 0). */
 void rt_tlog_reader_totals(const rt_tlog_reader *r, rt_tlog_totals *t);
 void rt_tlog_reader_close(rt_tlog_reader *r);
+
+/* Reads and validates only the header (img not needed): e.g. to learn the
+ * BVH width a log was written for. */
+bool rt_tlog_read_header(const char *path, rt_tlog_header *hdr, char *err, size_t errlen);
 
 /* Reads and validates a whole log against img; totals on success. */
 bool rt_tlog_verify(const char *path, const rt_bvh_image *img, const rt_mesh *mesh, rt_tlog_header *hdr,

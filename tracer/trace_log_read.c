@@ -155,6 +155,8 @@ rt_tlog_reader *rt_tlog_reader_open(const char *path, const rt_bvh_image *img, c
     else if (mesh && rt_mesh_hash(mesh) != H->info.mesh_hash)
         bad = fail(r, err, errlen, 48, "log is for mesh hash %016" PRIx64 ", the given mesh has hash %016" PRIx64,
                    H->info.mesh_hash, rt_mesh_hash(mesh));
+    else if (!img)
+        ;   /* header only (rt_tlog_read_header) */
     else if (H->image_hash != img->hash)
         bad = fail(r, err, errlen, 40,
                    "log is for BVH image hash %016" PRIx64 ", the given image has hash %016" PRIx64
@@ -584,6 +586,8 @@ int rt_tlog_read_ray(rt_tlog_reader *r, rt_tlog_ray *out, rt_trv_event_fn fn, vo
     }
     if (r->state == 1)
         return 0;
+    if (!r->img)
+        return fail(r, err, errlen, 0, "opened for its header only (no BVH image given)");
     while (r->rays_left == 0) {
         if (r->raw_len && r->pos != r->raw_len)
             return fail(r, err, errlen, r->block_off, "block has %zu bytes after its %u rays", r->raw_len - r->pos,
@@ -780,4 +784,11 @@ bool rt_tlog_verify(const char *path, const rt_bvh_image *img, const rt_mesh *me
         rt_tlog_reader_totals(r, totals);
     rt_tlog_reader_close(r);
     return s == 0;
+}
+
+bool rt_tlog_read_header(const char *path, rt_tlog_header *hdr, char *err, size_t errlen)
+{
+    rt_tlog_reader *r = rt_tlog_reader_open(path, NULL, NULL, hdr, err, errlen);
+    rt_tlog_reader_close(r);
+    return r != NULL;
 }

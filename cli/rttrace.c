@@ -57,6 +57,8 @@ static void usage(FILE *o)
             "  --res WxH              resolution, 1..65535 each (default %dx%d)\n"
             "  --bounces N            diffuse bounces per path, 0..%d (default %d)\n"
             "  --seed N               random seed of the bounces, 0..2^64-1 (default 1)\n"
+            "  --stack-depth N        traversal stack entries, 1..4096 (default %d, the paper's);\n"
+            "                         a ray overflowing it is a validation failure (exit 1)\n"
             "  --check-embree         compare every ray's closest hit with Embree 3\n"
             "  --max-mismatch-rate R  allowed fraction of rays differing from Embree, 0..1 (default %g);\n"
             "                         any unexplained difference (cause 'other') fails regardless\n"
@@ -70,7 +72,7 @@ static void usage(FILE *o)
             "  --help, --version\n"
             "Exit status: 0 ok, 1 Embree check failed, 2 bad usage or input.\n",
             RT_LEAF_MAX, RT_DEFAULT_WIDTH, RT_DEFAULT_HEIGHT, BOUNCES_MAX, RT_MAX_BOUNCES_DEFAULT,
-            MISMATCH_RATE_DEFAULT);
+            RT_STACK_DEPTH_DEFAULT, MISMATCH_RATE_DEFAULT);
 }
 
 static double now_s(void)
@@ -149,6 +151,7 @@ typedef struct options {
     const char *scene, *view, *views, *log, *image, *hm_visits, *hm_tris, *json, *read_log;
     int width;              /* 0 = not given */
     int leaf_size;
+    int stack_depth;
     bool diffuse, check_embree, quiet;
     uint32_t res_w, res_h, bounces;
     uint64_t seed;
@@ -474,7 +477,8 @@ int main(int argc, char **argv)
         {"heatmap-visits", required_argument, 0, 'H'}, {"heatmap-tris", required_argument, 0, 'T'},
         {"json", required_argument, 0, 'j'},      {"read-log", required_argument, 0, 'D'},
         {"quiet", no_argument, 0, 'q'},           {"help", no_argument, 0, 'h'},
-        {"version", no_argument, 0, 'v'},         {0, 0, 0, 0}};
+        {"version", no_argument, 0, 'v'},         {"stack-depth", required_argument, 0, 'S'},
+        {0, 0, 0, 0}};
     options o;
     memset(&o, 0, sizeof o);
     o.leaf_size = 4;
@@ -520,6 +524,11 @@ int main(int argc, char **argv)
             if (!parse_u64(optarg, 0, UINT64_MAX, &v))
                 return bad_usage("--seed: '%s' is not an integer in 0..18446744073709551615", optarg);
             o.seed = v;
+            break;
+        case 'S':
+            if (!parse_u64(optarg, 1, 4096, &v))
+                return bad_usage("--stack-depth: '%s' is not an integer in 1..4096", optarg);
+            o.stack_depth = (int)v;
             break;
         case 'e': o.check_embree = true; break;
         case 'm': {
@@ -628,6 +637,8 @@ int main(int argc, char **argv)
     tc.img = &img;
     tc.s = &s;
     rt_trv_params_default(&tc.tp, bp.width);
+    if (o.stack_depth)
+        tc.tp.stack_depth = o.stack_depth;
     const size_t npix = (size_t)o.res_w * o.res_h;
     tc.rgb = calloc(3 * npix, sizeof(float));
     tc.hm_visits = calloc(npix, sizeof(float));

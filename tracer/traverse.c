@@ -61,21 +61,26 @@ bool rt_trace_ray(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray 
             stack_entry hits[RT_WIDTH_MAX];
             int nh = 0;
             for (int s = 0; s < width; s++) {
-                rt_child ch;
-                rt_node_child(node, s, &ch);
-                if (ch.meta & RT_META_EMPTY)
+                const uint8_t *slot = node + (size_t)s * RT_SLOT_BYTES;
+                float lo[3], hi[3];
+                uint32_t cref, cmeta;
+                memcpy(&cmeta, slot + 28, 4);
+                if (cmeta & RT_META_EMPTY)
                     break;   /* used slots come first */
+                memcpy(lo, slot, 12);
+                memcpy(hi, slot + 12, 12);
                 c.box_tests++;
                 float tn;
-                if (!rt_slab_test(&rp, ch.lo, ch.hi, tmin, closest, &tn))
+                if (!rt_slab_test(&rp, lo, hi, tmin, closest, &tn))
                     continue;
+                memcpy(&cref, slot + 24, 4);
                 /* insertion keeps slot order among equal tnear: stable sort */
                 int i = nh++;
                 while (i > 0 && tn < hits[i - 1].tnear) {
                     hits[i] = hits[i - 1];
                     i--;
                 }
-                hits[i] = (stack_entry){ch.ref, ch.meta & RT_META_COUNT_MASK, tn};
+                hits[i] = (stack_entry){cref, cmeta & RT_META_COUNT_MASK, tn};
             }
             if (nh > 0) {
                 for (int i = nh - 1; i >= 1; i--) {

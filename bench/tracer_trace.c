@@ -105,7 +105,7 @@ int main(int argc, char **argv)
     const char *scene = NULL, *view_name = NULL;
     uint32_t w = 640, h = 360;
     int runs = 5, width = 4;
-    bool do_check = false;
+    bool do_check = false, ours_only = false;
     char err[1024];
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--view") && i + 1 < argc)
@@ -123,6 +123,8 @@ int main(int argc, char **argv)
                 return usage("--width must be 2..8");
         } else if (!strcmp(argv[i], "--check"))
             do_check = true;
+        else if (!strcmp(argv[i], "--ours-only"))   /* profiling: our traversal only */
+            ours_only = true;
         else if (argv[i][0] != '-' && !scene)
             scene = argv[i];
         else
@@ -147,7 +149,7 @@ int main(int argc, char **argv)
     double ours[100], ref[100];
     rt_bvh_image img = {0};
     rt_bvh_stats st;
-    for (int r = 0; r < runs; r++) {
+    for (int r = 0; r < (ours_only ? 1 : runs); r++) {
         rt_bvh_image_free(&img);
         const double t0 = now_s();
         if (!rt_bvh_build(&sc.mesh, &bp, &img, &st, err, sizeof err)) {
@@ -165,7 +167,8 @@ int main(int argc, char **argv)
     }
     fprintf(stderr, "%s: %u triangles; width %d: %u nodes, %u leaves, depth %u, SAH %.2f\n", sc.name, sc.mesh.ntris,
             width, st.inner_nodes, st.leaves, st.max_depth, st.sah_cost);
-    printf("build %.6f %.6f %u\n", median(ours, runs), median(ref, runs), sc.mesh.ntris);
+    if (!ours_only)
+        printf("build %.6f %.6f %u\n", median(ours, runs), median(ref, runs), sc.mesh.ntris);
 
     rt_trv_params tp;
     rt_trv_params_default(&tp, width);
@@ -200,7 +203,7 @@ int main(int argc, char **argv)
     for (int k = 0; k < 2; k++) {
         for (int r = 0; r < runs; r++) {
             ours[r] = time_ours(&img, &tp, sets[k], &sum);
-            ref[r] = time_embree(e, sets[k], &sum);
+            ref[r] = ours_only ? 0.0 : time_embree(e, sets[k], &sum);
         }
         printf("%s %.6f %.6f %u\n", names[k], median(ours, runs), median(ref, runs), sets[k]->n);
         fflush(stdout);

@@ -65,7 +65,7 @@ static void report(const char *scene, int width, const char *kind, const rt_embr
              100.0 * same / (n - cop), 100.0 * th.min_identical);
     TB_CHECK((double)precision <= th.max_precision * n + 1.0, "%s width %d %s: %llu gap/edge/t_round of %llu rays",
              scene, width, kind, (unsigned long long)precision, (unsigned long long)t->rays);
-    TB_CHECK(t->rays > 1000, "%s %s: only %llu rays", scene, kind, (unsigned long long)t->rays);
+    TB_CHECK(t->rays > 200, "%s %s: only %llu rays", scene, kind, (unsigned long long)t->rays);
 }
 
 static void compare_scene(const char *label, const rt_mesh *m, const rt_view *view, uint32_t w, uint32_t h,

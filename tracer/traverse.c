@@ -11,6 +11,13 @@ typedef struct stack_entry {
     float tnear;
 } stack_entry;
 
+static inline float load_f32(const uint8_t *p)
+{
+    float f;
+    memcpy(&f, p, 4);
+    return f;
+}
+
 void rt_trv_params_default(rt_trv_params *p, int width)
 {
     p->stack_depth = RT_STACK_DEPTH_DEFAULT;
@@ -62,13 +69,13 @@ bool rt_trace_ray(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray 
             int nh = 0;
             for (int s = 0; s < width; s++) {
                 const uint8_t *slot = node + (size_t)s * RT_SLOT_BYTES;
-                float lo[3], hi[3];
                 uint32_t cref, cmeta;
                 memcpy(&cmeta, slot + 28, 4);
                 if (cmeta & RT_META_EMPTY)
                     break;   /* used slots come first */
-                memcpy(lo, slot, 12);
-                memcpy(hi, slot + 12, 12);
+                /* element-wise loads keep the box in registers */
+                const float lo[3] = {load_f32(slot), load_f32(slot + 4), load_f32(slot + 8)};
+                const float hi[3] = {load_f32(slot + 12), load_f32(slot + 16), load_f32(slot + 20)};
                 c.box_tests++;
                 float tn;
                 if (!rt_slab_test(&rp, lo, hi, tmin, closest, &tn))

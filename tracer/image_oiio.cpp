@@ -58,6 +58,9 @@ static bool write_image(const char *path, const float *pix, uint32_t w, uint32_t
         spec.channelnames = names;
     if (description && *description)
         spec.attribute("ImageDescription", description);
+    // A fixed capture date: OIIO's EXR writer stamps the current time
+    // otherwise, and equal inputs must give bit-identical files.
+    spec.attribute("DateTime", "1970:01:01 00:00:00");
     if (!out->open(tmp, spec)) {
         rt_scene_errorf(err, errlen, "%s: cannot open for writing: %s", tmp.c_str(),
                         out->geterror().c_str());

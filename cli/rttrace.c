@@ -1,0 +1,831 @@
+/* rttrace — the software ray tracer's command-line tool (SPEC.md
+ * "Command-line conventions"): loads a scene, builds the BVH, traces a view's
+ * primary rays or diffuse paths with the reference traversal (the hardware's
+ * algorithm, tracer/traverse.h), optionally compares every ray with Embree,
+ * and writes the trace log, the shaded frame, per-pixel heatmaps of node
+ * visits and triangle tests, and statistics (--json).
+ *   rttrace SCENE [options]            trace (see usage())
+ *   rttrace SCENE --read-log FILE      validate a trace log against the scene
+ * Exit: 0 ok, 1 validation failure (Embree mismatches above the allowed rate
+ * or unexplained), 2 bad usage or input (message names the option or file).
+ * Every output is written to a temporary name and renamed when complete; on
+ * an error the outputs of this run are removed. Deterministic: the same
+ * arguments give the same counts, images and log bytes. */
+#include <errno.h>
+#include <getopt.h>
+#include <inttypes.h>
+#include <limits.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <time.h>
+#include <unistd.h>
+
+#include "tracer/bounce.h"
+#include "tracer/bvh.h"
+#include "tracer/camera.h"
+#include "tracer/embree_check.h"
+#include "tracer/image.h"
+#include "tracer/mesh.h"
+#include "tracer/scene.h"
+#include "tracer/shade.h"
+#include "tracer/trace_log.h"
+#include "tracer/traverse.h"
+
+#ifndef RTSIM_GIT
+#define RTSIM_GIT "unknown"
+#endif
+#define RTTRACE_VERSION "1.0"
+#define BOUNCES_MAX 32            /* rt_ray.bounce is 8 bits; 32 is far beyond the paper's 4 */
+/* Issue 3: at least 99.999% of rays identical to Embree on the built-ins. */
+#define MISMATCH_RATE_DEFAULT 1e-5
+
+static void usage(FILE *o)
+{
+    fprintf(o,
+            "usage: rttrace SCENE [options]\n"
+            "       rttrace SCENE --read-log FILE [--bvh ...] [--leaf-size N] [--json FILE]\n"
+            "Traces a view of SCENE (built-in name: interior, hairball, city, forest; or .obj/.ply[.gz]/.scene)\n"
+            "with the reference traversal of the accelerator.\n"
+            "  --view NAME            view to render (default: the scene's first)\n"
+            "  --views FILE           views.txt-format file replacing the scene's views\n"
+            "  --bvh bvh2|mbvh4|mbvhN BVH width, N = 2..8 (default mbvh4)\n"
+            "  --leaf-size N          max triangles per leaf, 1..%u (default 4)\n"
+            "  --rays primary|diffuse primary rays, or diffuse paths (default primary)\n"
+            "  --res WxH              resolution, 1..65535 each (default %dx%d)\n"
+            "  --bounces N            diffuse bounces per path, 0..%d (default %d)\n"
+            "  --seed N               random seed of the bounces, 0..2^64-1 (default 1)\n"
+            "  --stack-depth N        traversal stack entries, 1..4096 (default %d, the paper's);\n"
+            "                         a ray overflowing it is a validation failure (exit 1)\n"
+            "  --check-embree         compare every ray's closest hit with Embree 3\n"
+            "  --max-mismatch-rate R  allowed fraction of rays differing from Embree, 0..1 (default %g);\n"
+            "                         any unexplained difference (cause 'other') fails regardless\n"
+            "  --log FILE             write the binary trace log (docs/tracer-log.md)\n"
+            "  --image FILE           shaded frame (.png or .exr)\n"
+            "  --heatmap-visits FILE  node visits per pixel (.png or .exr; EXR keeps raw values)\n"
+            "  --heatmap-tris FILE    triangle tests per pixel (.png or .exr)\n"
+            "  --json FILE            statistics as one JSON object ('-' = stdout)\n"
+            "  --read-log FILE        validate FILE against SCENE's BVH instead of tracing\n"
+            "  --quiet                no summary, no progress bar\n"
+            "  --help, --version\n"
+            "Exit status: 0 ok, 1 Embree check failed, 2 bad usage or input.\n",
+            RT_LEAF_MAX, RT_DEFAULT_WIDTH, RT_DEFAULT_HEIGHT, BOUNCES_MAX, RT_MAX_BOUNCES_DEFAULT,
+            RT_STACK_DEPTH_DEFAULT, MISMATCH_RATE_DEFAULT);
+}
+
+static double now_s(void)
+{
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+/* ---- option parsing ---- */
+
+static int bad_usage(const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    fputs("rttrace: ", stderr);
+    vfprintf(stderr, fmt, ap);
+    fputs("\n(rttrace --help for usage)\n", stderr);
+    va_end(ap);
+    return 2;
+}
+
+static bool parse_u64(const char *text, uint64_t lo, uint64_t hi, uint64_t *out)
+{
+    if (!text || !*text || *text == '-' || *text == '+')
+        return false;
+    char *end;
+    errno = 0;
+    unsigned long long v = strtoull(text, &end, 10);
+    if (errno || *end || v < lo || v > hi)
+        return false;
+    *out = v;
+    return true;
+}
+
+static bool parse_bvh(const char *text, int *width)
+{
+    if (strcmp(text, "bvh2") == 0) {
+        *width = 2;
+        return true;
+    }
+    if (strncmp(text, "mbvh", 4) == 0 && text[4] >= '2' && text[4] <= '8' && text[5] == 0) {
+        *width = text[4] - '0';
+        return true;
+    }
+    return false;
+}
+
+/* An output path must have an existing, writable folder (and, for images, a
+ * supported extension), checked before any work is done. */
+static int check_output(const char *opt, const char *path, bool image)
+{
+    if (!path)
+        return 0;
+    if (!*path)
+        return bad_usage("%s: empty file name", opt);
+    if (image && !rt_image_format_supported(path))
+        return bad_usage("%s %s: unsupported image type; allowed: .png, .exr", opt, path);
+    char dir[4096];
+    const char *slash = strrchr(path, '/');
+    if (slash)
+        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path) ? (int)(slash - path) : 1, path);
+    else
+        snprintf(dir, sizeof dir, ".");
+    struct stat st;
+    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
+        return bad_usage("%s %s: folder %s does not exist", opt, path, dir);
+    if (access(dir, W_OK) != 0)
+        return bad_usage("%s %s: folder %s is not writable", opt, path, dir);
+    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
+        return bad_usage("%s %s: is a folder", opt, path);
+    return 0;
+}
+
+typedef struct options {
+    const char *scene, *view, *views, *log, *image, *hm_visits, *hm_tris, *json, *read_log;
+    int width;              /* 0 = not given */
+    int leaf_size;
+    int stack_depth;
+    bool diffuse, check_embree, quiet;
+    uint32_t res_w, res_h, bounces;
+    uint64_t seed;
+    double max_mismatch_rate;
+} options;
+
+/* ---- statistics ---- */
+
+typedef struct stats {
+    uint64_t rays, primary_rays, bounce_rays, hits, overflows;
+    uint64_t visits, box_tests, leaves, tri_tests, pushes, pops, culls;
+    uint32_t max_stack;
+    rt_embree_tally tally;
+    double embree_build_s;
+    rt_tlog_totals log;
+    bool log_written;
+    double build_s, trace_s, wall_s;
+    float visits_max, tris_max;
+} stats;
+
+static void add_counts(stats *s, const rt_trv_counts *c)
+{
+    s->visits += c->visits;
+    s->box_tests += c->box_tests;
+    s->leaves += c->leaves;
+    s->tri_tests += c->tri_tests;
+    s->pushes += c->pushes;
+    s->pops += c->pops;
+    s->culls += c->culls;
+    if (c->max_stack > s->max_stack)
+        s->max_stack = c->max_stack;
+}
+
+static double per(uint64_t a, uint64_t b) { return b ? (double)a / (double)b : 0.0; }
+
+static uint64_t embree_mismatches(const rt_embree_tally *t) { return t->rays - t->cause[RT_EMBREE_SAME]; }
+
+/* ---- progress bar (only on a terminal) ---- */
+
+typedef struct progress {
+    bool on;
+    double t0, last;
+    uint64_t total;
+} progress;
+
+static void progress_update(progress *p, uint64_t done, bool final)
+{
+    if (!p->on)
+        return;
+    double t = now_s();
+    if (!final && t - p->last < 0.2)
+        return;
+    p->last = t;
+    double f = p->total ? (double)done / (double)p->total : 1.0;
+    int bar = (int)(f * 30.0);
+    double el = t - p->t0, eta = f > 0 ? el * (1.0 - f) / f : 0.0;
+    fprintf(stderr, "\r[%.*s%.*s] %5.1f%% %" PRIu64 "/%" PRIu64 " pixels  ETA %4.0f s ", bar,
+            "##############################", 30 - bar, "                              ", 100.0 * f, done, p->total,
+            final ? 0.0 : eta);
+    if (final)
+        fputs("\n", stderr);
+    fflush(stderr);
+}
+
+/* ---- outputs written in this run, removed again on an error ---- */
+
+static const char *g_written[8];
+static int g_nwritten;
+static void written(const char *path) { g_written[g_nwritten++] = path; }
+static void remove_written(void)
+{
+    for (int i = 0; i < g_nwritten; i++)
+        remove(g_written[i]);
+    g_nwritten = 0;
+}
+
+/* ---- JSON ---- */
+
+static void json_u(FILE *f, const char *k, uint64_t v, bool *first)
+{
+    fprintf(f, "%s\n  \"%s\": %" PRIu64, *first ? "" : ",", k, v);
+    *first = false;
+}
+static void json_d(FILE *f, const char *k, double v, bool *first)
+{
+    fprintf(f, "%s\n  \"%s\": %.9g", *first ? "" : ",", k, v);
+    *first = false;
+}
+static void json_s(FILE *f, const char *k, const char *v, bool *first)
+{
+    fprintf(f, "%s\n  \"%s\": \"", *first ? "" : ",", k);
+    for (const char *c = v; *c; c++) {
+        if (*c == '"' || *c == '\\')
+            fprintf(f, "\\%c", *c);
+        else if ((unsigned char)*c < 0x20)
+            fprintf(f, "\\u%04x", (unsigned)(unsigned char)*c);
+        else
+            fputc(*c, f);
+    }
+    fputc('"', f);
+    *first = false;
+}
+
+typedef struct run_info {
+    const options *o;
+    const rt_scene *sc;
+    const rt_view *view;
+    const rt_bvh_params *bp;
+    const rt_bvh_stats *bs;
+    const rt_bvh_image *img;
+} run_info;
+
+static void json_common(FILE *f, const run_info *ri, bool *first)
+{
+    json_s(f, "tool", "rttrace " RTTRACE_VERSION " (git " RTSIM_GIT ")", first);
+    json_s(f, "scene", ri->sc->name, first);
+    json_u(f, "triangles", ri->sc->mesh.ntris, first);
+    char hex[24];
+    snprintf(hex, sizeof hex, "%016" PRIx64, rt_mesh_hash(&ri->sc->mesh));
+    json_s(f, "mesh_hash", hex, first);
+    json_u(f, "bvh_width", (uint64_t)ri->bp->width, first);
+    json_u(f, "leaf_size", (uint64_t)ri->bp->leaf_size, first);
+    snprintf(hex, sizeof hex, "%016" PRIx64, ri->img->hash);
+    json_s(f, "bvh_image_hash", hex, first);
+    json_u(f, "bvh_inner_nodes", ri->bs->inner_nodes, first);
+    json_u(f, "bvh_leaves", ri->bs->leaves, first);
+    json_u(f, "bvh_max_depth", ri->bs->max_depth, first);
+    json_d(f, "bvh_sah_cost", ri->bs->sah_cost, first);
+    json_u(f, "bvh_node_bytes", ri->bs->node_bytes_total, first);
+    json_u(f, "bvh_triangle_bytes", ri->bs->tri_bytes_total, first);
+    json_u(f, "bvh_image_bytes", ri->img->size, first);
+    json_d(f, "bvh_build_s", ri->bs->build_seconds, first);
+}
+
+static int write_json(const char *path, const run_info *ri, const stats *s, bool read_mode)
+{
+    char tmp[4200];
+    FILE *f;
+    if (strcmp(path, "-") == 0) {
+        f = stdout;
+    } else {
+        snprintf(tmp, sizeof tmp, "%s.tmp.%ld", path, (long)getpid());
+        f = fopen(tmp, "w");
+        if (!f) {
+            fprintf(stderr, "rttrace: --json %s: cannot write\n", path);
+            return 2;
+        }
+    }
+    bool first = true;
+    fputs("{", f);
+    json_common(f, ri, &first);
+    if (read_mode) {
+        json_s(f, "log", ri->o->read_log, &first);
+        json_u(f, "log_bytes", s->log.file_bytes, &first);
+        json_u(f, "log_blocks", s->log.blocks, &first);
+        json_u(f, "rays", s->log.rays, &first);
+        json_u(f, "hits", s->log.hits, &first);
+        json_u(f, "node_visits", s->log.visits, &first);
+        json_u(f, "leaf_visits", s->log.leaves, &first);
+        json_u(f, "triangle_tests", s->log.tri_tests, &first);
+        json_u(f, "stack_pushes", s->log.pushes, &first);
+        json_u(f, "stack_pops", s->log.pops, &first);
+        json_u(f, "stack_culls", s->log.culls, &first);
+        json_u(f, "stack_overflows", s->log.overflows, &first);
+        json_u(f, "events", s->log.events, &first);
+        json_d(f, "log_bytes_per_node_visit", per(s->log.file_bytes, s->log.visits), &first);
+        json_d(f, "wall_s", s->wall_s, &first);
+    } else {
+        const options *o = ri->o;
+        json_s(f, "view", ri->view->name, &first);
+        json_s(f, "ray_type", o->diffuse ? "diffuse" : "primary", &first);
+        json_u(f, "width_px", o->res_w, &first);
+        json_u(f, "height_px", o->res_h, &first);
+        json_u(f, "max_bounces", o->diffuse ? o->bounces : 0, &first);
+        json_u(f, "seed", o->seed, &first);
+        json_u(f, "rays", s->rays, &first);
+        json_u(f, "primary_rays", s->primary_rays, &first);
+        json_u(f, "bounce_rays", s->bounce_rays, &first);
+        json_u(f, "hits", s->hits, &first);
+        json_u(f, "stack_overflows", s->overflows, &first);
+        json_u(f, "node_visits", s->visits, &first);
+        json_u(f, "box_tests", s->box_tests, &first);
+        json_u(f, "leaf_visits", s->leaves, &first);
+        json_u(f, "triangle_tests", s->tri_tests, &first);
+        json_u(f, "stack_pushes", s->pushes, &first);
+        json_u(f, "stack_pops", s->pops, &first);
+        json_u(f, "stack_culls", s->culls, &first);
+        json_u(f, "max_stack_depth", s->max_stack, &first);
+        json_d(f, "node_visits_per_ray", per(s->visits, s->rays), &first);
+        json_d(f, "box_tests_per_ray", per(s->box_tests, s->rays), &first);
+        json_d(f, "triangle_tests_per_ray", per(s->tri_tests, s->rays), &first);
+        json_d(f, "max_node_visits_per_pixel", s->visits_max, &first);
+        json_d(f, "max_triangle_tests_per_pixel", s->tris_max, &first);
+        json_u(f, "embree_checked", o->check_embree, &first);
+        json_u(f, "embree_rays", s->tally.rays, &first);
+        json_u(f, "embree_mismatches", embree_mismatches(&s->tally), &first);
+        json_u(f, "embree_same_exact_t", s->tally.exact_t, &first);
+        json_u(f, "embree_same_t_within_bound", s->tally.t_bound, &first);
+        for (int c = RT_EMBREE_TIE; c < RT_EMBREE_CAUSES; c++) {
+            char k[64];
+            snprintf(k, sizeof k, "embree_mismatch_%s", rt_embree_cause_name((rt_embree_cause)c));
+            json_u(f, k, s->tally.cause[c], &first);
+        }
+        json_d(f, "embree_build_s", s->embree_build_s, &first);
+        json_d(f, "embree_max_mismatch_rate", o->max_mismatch_rate, &first);
+        json_u(f, "log_bytes", s->log_written ? s->log.file_bytes : 0, &first);
+        json_d(f, "log_bytes_per_node_visit", s->log_written ? per(s->log.file_bytes, s->visits) : 0.0, &first);
+        json_d(f, "trace_s", s->trace_s, &first);
+        json_d(f, "trace_mrays_per_s", s->trace_s > 0 ? (double)s->rays / s->trace_s / 1e6 : 0.0, &first);
+        json_d(f, "wall_s", s->wall_s, &first);
+    }
+    fputs("\n}\n", f);
+    if (f == stdout) {
+        fflush(f);
+        return 0;
+    }
+    bool bad = ferror(f) != 0;
+    bad |= fclose(f) != 0;
+    if (bad || rename(tmp, path) != 0) {
+        remove(tmp);
+        fprintf(stderr, "rttrace: --json %s: write failed\n", path);
+        return 2;
+    }
+    written(path);
+    return 0;
+}
+
+/* ---- the run ---- */
+
+static void print_build(const run_info *ri)
+{
+    const rt_bvh_stats *b = ri->bs;
+    printf("scene      %s: %u triangles, mesh hash %016" PRIx64 "\n", ri->sc->name, ri->sc->mesh.ntris,
+           rt_mesh_hash(&ri->sc->mesh));
+    printf("bvh        %s%d (leaf size <= %d): %u inner nodes, %u leaves, depth %u, SAH cost %.2f\n",
+           ri->bp->width == 2 ? "bvh" : "mbvh", ri->bp->width, ri->bp->leaf_size, b->inner_nodes, b->leaves,
+           b->max_depth, b->sah_cost);
+    printf("           %" PRIu64 " B nodes + %" PRIu64 " B triangles (image %" PRIu64 " B, hash %016" PRIx64
+           "), built in %.3f s\n",
+           b->node_bytes_total, b->tri_bytes_total, ri->img->size, ri->img->hash, b->build_seconds);
+}
+
+static int read_log_mode(const options *o, rt_scene *sc, const rt_bvh_params *bp, const rt_bvh_stats *bs,
+                         const rt_bvh_image *img, double t0)
+{
+    run_info ri = {o, sc, &sc->views.v[0], bp, bs, img};
+    if (!o->quiet)
+        print_build(&ri);
+    char err[1024];
+    stats s;
+    memset(&s, 0, sizeof s);
+    rt_tlog_header h;
+    if (!rt_tlog_verify(o->read_log, img, &sc->mesh, &h, &s.log, err, sizeof err)) {
+        fprintf(stderr, "rttrace: --read-log: %s\n", err);
+        return 2;
+    }
+    s.wall_s = now_s() - t0;
+    if (!o->quiet) {
+        static const char *kinds[] = {"primary", "diffuse", "other"};
+        printf("log        %s: valid, version %u, %s rays, %ux%u, %u bounces, seed %" PRIu64 "\n", o->read_log,
+               h.version, kinds[h.info.ray_kind], h.info.res_width, h.info.res_height, h.info.max_bounces,
+               h.info.seed);
+        printf("           %" PRIu64 " rays (%" PRIu64 " hits, %" PRIu64 " overflows), %" PRIu64 " node visits, %" PRIu64
+               " triangle tests, %" PRIu64 " events\n",
+               s.log.rays, s.log.hits, s.log.overflows, s.log.visits, s.log.tri_tests, s.log.events);
+        printf("           %" PRIu64 " bytes in %" PRIu64 " blocks: %.3f bytes per node visit\n", s.log.file_bytes,
+               s.log.blocks, per(s.log.file_bytes, s.log.visits));
+    }
+    if (o->json && write_json(o->json, &ri, &s, true) != 0)
+        return 2;
+    return 0;
+}
+
+typedef struct tracer_ctx {
+    const options *o;
+    const rt_scene *sc;
+    const rt_bvh_image *img;
+    rt_trv_params tp;
+    rt_tlog_writer *log;
+    rt_embree *embree;
+    float *rgb, *hm_visits, *hm_tris;
+    stats *s;
+} tracer_ctx;
+
+/* Traces one ray (logged, checked); false on a log error (message in err). */
+static bool trace_one(tracer_ctx *c, const rt_ray *ray, rt_hit *hit, char *err, size_t errlen)
+{
+    rt_trv_counts cnt;
+    if (c->log)
+        rt_tlog_ray_begin(c->log, ray);
+    bool ok = rt_trace_ray(c->img, &c->tp, ray, hit, &cnt, c->log ? rt_tlog_event : NULL, c->log);
+    if (c->log && !rt_tlog_ray_end(c->log, !ok, err, errlen))
+        return false;
+    stats *s = c->s;
+    s->rays++;
+    if (ray->bounce == 0)
+        s->primary_rays++;
+    else
+        s->bounce_rays++;
+    s->overflows += !ok;
+    s->hits += ok && hit->prim != RT_NO_HIT;
+    add_counts(s, &cnt);
+    c->hm_visits[ray->pixel] += (float)cnt.visits;
+    c->hm_tris[ray->pixel] += (float)cnt.tri_tests;
+    if (c->embree) {
+        rt_hit ref;
+        rt_embree_intersect(c->embree, ray, &ref);
+        rt_embree_tally_add(&s->tally, &c->sc->mesh, ray, hit, &ref);
+    }
+    return true;
+}
+
+int main(int argc, char **argv)
+{
+    const double t0 = now_s();
+    static const struct option longopts[] = {
+        {"view", required_argument, 0, 'V'},      {"views", required_argument, 0, 'W'},
+        {"bvh", required_argument, 0, 'b'},       {"leaf-size", required_argument, 0, 'l'},
+        {"rays", required_argument, 0, 'r'},      {"res", required_argument, 0, 'R'},
+        {"bounces", required_argument, 0, 'n'},   {"seed", required_argument, 0, 's'},
+        {"check-embree", no_argument, 0, 'e'},    {"max-mismatch-rate", required_argument, 0, 'm'},
+        {"log", required_argument, 0, 'L'},       {"image", required_argument, 0, 'i'},
+        {"heatmap-visits", required_argument, 0, 'H'}, {"heatmap-tris", required_argument, 0, 'T'},
+        {"json", required_argument, 0, 'j'},      {"read-log", required_argument, 0, 'D'},
+        {"quiet", no_argument, 0, 'q'},           {"help", no_argument, 0, 'h'},
+        {"version", no_argument, 0, 'v'},         {"stack-depth", required_argument, 0, 'S'},
+        {0, 0, 0, 0}};
+    options o;
+    memset(&o, 0, sizeof o);
+    o.leaf_size = 4;
+    o.res_w = RT_DEFAULT_WIDTH;
+    o.res_h = RT_DEFAULT_HEIGHT;
+    o.bounces = RT_MAX_BOUNCES_DEFAULT;
+    o.seed = 1;
+    o.max_mismatch_rate = MISMATCH_RATE_DEFAULT;
+    bool bounces_given = false;
+    char err[1024];
+    int c;
+    opterr = 0;
+    while ((c = getopt_long(argc, argv, ":", longopts, NULL)) != -1) {
+        uint64_t v;
+        switch (c) {
+        case 'V': o.view = optarg; break;
+        case 'W': o.views = optarg; break;
+        case 'b':
+            if (!parse_bvh(optarg, &o.width))
+                return bad_usage("--bvh: '%s' is not a BVH type; allowed: bvh2, mbvh4, mbvhN with N = 2..8", optarg);
+            break;
+        case 'l':
+            if (!parse_u64(optarg, 1, RT_LEAF_MAX, &v))
+                return bad_usage("--leaf-size: '%s' is not an integer in 1..%u", optarg, RT_LEAF_MAX);
+            o.leaf_size = (int)v;
+            break;
+        case 'r':
+            if (strcmp(optarg, "primary") && strcmp(optarg, "diffuse"))
+                return bad_usage("--rays: '%s' is not a ray type; allowed: primary, diffuse", optarg);
+            o.diffuse = strcmp(optarg, "diffuse") == 0;
+            break;
+        case 'R':
+            if (!rt_parse_resolution(optarg, &o.res_w, &o.res_h, err, sizeof err))
+                return bad_usage("--res: %s", err);
+            break;
+        case 'n':
+            if (!parse_u64(optarg, 0, BOUNCES_MAX, &v))
+                return bad_usage("--bounces: '%s' is not an integer in 0..%d", optarg, BOUNCES_MAX);
+            o.bounces = (uint32_t)v;
+            bounces_given = true;
+            break;
+        case 's':
+            if (!parse_u64(optarg, 0, UINT64_MAX, &v))
+                return bad_usage("--seed: '%s' is not an integer in 0..18446744073709551615", optarg);
+            o.seed = v;
+            break;
+        case 'S':
+            if (!parse_u64(optarg, 1, 4096, &v))
+                return bad_usage("--stack-depth: '%s' is not an integer in 1..4096", optarg);
+            o.stack_depth = (int)v;
+            break;
+        case 'e': o.check_embree = true; break;
+        case 'm': {
+            char *end;
+            errno = 0;
+            double r = strtod(optarg, &end);
+            if (errno || *end || end == optarg || !(r >= 0.0 && r <= 1.0))
+                return bad_usage("--max-mismatch-rate: '%s' is not a number in 0..1", optarg);
+            o.max_mismatch_rate = r;
+            break;
+        }
+        case 'L': o.log = optarg; break;
+        case 'i': o.image = optarg; break;
+        case 'H': o.hm_visits = optarg; break;
+        case 'T': o.hm_tris = optarg; break;
+        case 'j': o.json = optarg; break;
+        case 'D': o.read_log = optarg; break;
+        case 'q': o.quiet = true; break;
+        case 'h': usage(stdout); return 0;
+        case 'v': printf("rttrace %s (git %s)\n", RTTRACE_VERSION, RTSIM_GIT); return 0;
+        case ':': return bad_usage("%s needs a value", argv[optind - 1]);
+        default: return bad_usage("unknown option %s", argv[optind - 1]);
+        }
+    }
+    if (optind != argc - 1)
+        return bad_usage(optind == argc ? "missing SCENE argument" : "expected one SCENE argument, got '%s' too",
+                         optind < argc - 1 ? argv[optind + 1] : "");
+    o.scene = argv[optind];
+    if (bounces_given && !o.diffuse)
+        return bad_usage("--bounces: only with --rays diffuse");
+    if (o.read_log && (o.log || o.image || o.hm_visits || o.hm_tris || o.check_embree))
+        return bad_usage("--read-log: only --bvh, --leaf-size, --json and --quiet apply");
+    int rc;
+    if ((rc = check_output("--log", o.log, false)) || (rc = check_output("--image", o.image, true)) ||
+        (rc = check_output("--heatmap-visits", o.hm_visits, true)) ||
+        (rc = check_output("--heatmap-tris", o.hm_tris, true)) ||
+        (rc = check_output("--json", o.json && strcmp(o.json, "-") ? o.json : NULL, false)))
+        return rc;
+
+    rt_tlog_header loghdr;
+    if (o.read_log) {
+        if (!rt_tlog_read_header(o.read_log, &loghdr, err, sizeof err)) {
+            fprintf(stderr, "rttrace: --read-log: %s\n", err);
+            return 2;
+        }
+        if (!o.width)
+            o.width = (int)loghdr.bvh_width;   /* the log names its BVH width */
+    }
+    if (!o.width)
+        o.width = 4;
+
+    /* scene, view */
+    rt_scene sc;
+    if (!rt_scene_load(o.scene, &sc, err, sizeof err)) {
+        fprintf(stderr, "rttrace: %s\n", err);
+        return 2;
+    }
+    if (o.views && !rt_scene_set_views_file(&sc, o.views, err, sizeof err)) {
+        fprintf(stderr, "rttrace: --views: %s\n", err);
+        rt_scene_free(&sc);
+        return 2;
+    }
+    const rt_view *view = rt_scene_view(&sc, o.view, err, sizeof err);
+    if (!view) {
+        fprintf(stderr, "rttrace: --view: %s\n", err);
+        rt_scene_free(&sc);
+        return 2;
+    }
+    rt_camera cam;
+    if (!rt_camera_init(&cam, view, o.res_w, o.res_h, err, sizeof err)) {
+        fprintf(stderr, "rttrace: view %s: %s\n", view->name, err);
+        rt_scene_free(&sc);
+        return 2;
+    }
+
+    /* BVH */
+    rt_bvh_params bp;
+    rt_bvh_params_default(&bp);
+    bp.width = o.width;
+    bp.leaf_size = o.leaf_size;
+    rt_bvh_image img;
+    rt_bvh_stats bs;
+    if (!rt_bvh_build(&sc.mesh, &bp, &img, &bs, err, sizeof err)) {
+        fprintf(stderr, "rttrace: BVH: %s\n", err);
+        rt_scene_free(&sc);
+        return 2;
+    }
+    if (o.read_log) {
+        rc = read_log_mode(&o, &sc, &bp, &bs, &img, t0);
+        rt_bvh_image_free(&img);
+        rt_scene_free(&sc);
+        return rc;
+    }
+    run_info ri = {&o, &sc, view, &bp, &bs, &img};
+    if (!o.quiet) {
+        print_build(&ri);
+        fflush(stdout);
+    }
+
+    stats s;
+    memset(&s, 0, sizeof s);
+    tracer_ctx tc;
+    memset(&tc, 0, sizeof tc);
+    tc.o = &o;
+    tc.sc = &sc;
+    tc.img = &img;
+    tc.s = &s;
+    rt_trv_params_default(&tc.tp, bp.width);
+    if (o.stack_depth)
+        tc.tp.stack_depth = o.stack_depth;
+    const size_t npix = (size_t)o.res_w * o.res_h;
+    tc.rgb = calloc(3 * npix, sizeof(float));
+    tc.hm_visits = calloc(npix, sizeof(float));
+    tc.hm_tris = calloc(npix, sizeof(float));
+    rc = 0;
+    if (!tc.rgb || !tc.hm_visits || !tc.hm_tris) {
+        fprintf(stderr, "rttrace: out of memory for %ux%u pixels\n", o.res_w, o.res_h);
+        rc = 2;
+        goto done;
+    }
+    if (o.check_embree) {
+        tc.embree = rt_embree_create(&sc.mesh, RT_EMBREE_ROBUST, err, sizeof err);
+        if (!tc.embree) {
+            fprintf(stderr, "rttrace: --check-embree: %s\n", err);
+            rc = 2;
+            goto done;
+        }
+        s.embree_build_s = rt_embree_build_seconds(tc.embree);
+    }
+    if (o.log) {
+        rt_tlog_info info;
+        memset(&info, 0, sizeof info);
+        info.mesh_hash = rt_mesh_hash(&sc.mesh);
+        info.res_width = o.res_w;
+        info.res_height = o.res_h;
+        info.ray_kind = o.diffuse ? RT_TLOG_RAYS_DIFFUSE : RT_TLOG_RAYS_PRIMARY;
+        info.max_bounces = o.diffuse ? o.bounces : 0;
+        info.seed = o.seed;
+        info.has_view = true;
+        info.view = *view;
+        info.mesh = &sc.mesh;
+        tc.log = rt_tlog_writer_open(o.log, &img, &tc.tp, &info, err, sizeof err);
+        if (!tc.log) {
+            fprintf(stderr, "rttrace: --log: %s\n", err);
+            rc = 2;
+            goto done;
+        }
+    }
+
+    /* trace: pixel by pixel, each path's rays one after the other */
+    progress pg = {!o.quiet && isatty(2), now_s(), 0, npix};
+    const double tt0 = now_s();
+    for (uint32_t py = 0; py < o.res_h && rc == 0; py++) {
+        for (uint32_t px = 0; px < o.res_w; px++) {
+            rt_ray ray = rt_camera_primary_ray(&cam, px, py);
+            rt_hit hit;
+            const size_t pix = (size_t)py * o.res_w + px;
+            if (!trace_one(&tc, &ray, &hit, err, sizeof err)) {
+                fprintf(stderr, "rttrace: --log: %s\n", err);
+                rc = 2;
+                break;
+            }
+            rt_vec3 col;
+            if (!o.diffuse) {
+                col = rt_shade_headlight(&sc.mesh, &ray, &hit);
+            } else {
+                rt_path path;
+                rt_path_init(&path);
+                rt_path_add(&path, &ray, &hit);
+                rt_ray next;
+                while (rc == 0 && rt_bounce_ray(&sc.mesh, &ray, &hit, o.seed, o.bounces, &next)) {
+                    ray = next;
+                    if (!trace_one(&tc, &ray, &hit, err, sizeof err)) {
+                        fprintf(stderr, "rttrace: --log: %s\n", err);
+                        rc = 2;
+                    }
+                    rt_path_add(&path, &ray, &hit);
+                }
+                col = path.radiance;
+            }
+            tc.rgb[3 * pix + 0] = col.x;
+            tc.rgb[3 * pix + 1] = col.y;
+            tc.rgb[3 * pix + 2] = col.z;
+            if ((pix & 1023) == 0)
+                progress_update(&pg, pix, false);
+        }
+    }
+    s.trace_s = now_s() - tt0;
+    if (rc)
+        goto done;
+    progress_update(&pg, npix, true);
+
+    /* outputs */
+    if (tc.log) {
+        bool ok = rt_tlog_writer_close(tc.log, &s.log, err, sizeof err);
+        tc.log = NULL;
+        if (!ok) {
+            fprintf(stderr, "rttrace: --log: %s\n", err);
+            rc = 2;
+            goto done;
+        }
+        s.log_written = true;
+        written(o.log);
+    }
+    float lo;
+    rt_image_value_range(tc.hm_visits, npix, &lo, &s.visits_max);
+    rt_image_value_range(tc.hm_tris, npix, &lo, &s.tris_max);
+    if (o.image) {
+        if (!rt_image_write_rgb(o.image, tc.rgb, o.res_w, o.res_h, err, sizeof err)) {
+            fprintf(stderr, "rttrace: --image: %s\n", err);
+            rc = 2;
+            goto done;
+        }
+        written(o.image);
+    }
+    if (o.hm_visits) {
+        if (!rt_image_write_heatmap(o.hm_visits, tc.hm_visits, o.res_w, o.res_h, 0.0f, s.visits_max,
+                                    RT_COLORMAP_VIRIDIS, err, sizeof err)) {
+            fprintf(stderr, "rttrace: --heatmap-visits: %s\n", err);
+            rc = 2;
+            goto done;
+        }
+        written(o.hm_visits);
+    }
+    if (o.hm_tris) {
+        if (!rt_image_write_heatmap(o.hm_tris, tc.hm_tris, o.res_w, o.res_h, 0.0f, s.tris_max, RT_COLORMAP_VIRIDIS,
+                                    err, sizeof err)) {
+            fprintf(stderr, "rttrace: --heatmap-tris: %s\n", err);
+            rc = 2;
+            goto done;
+        }
+        written(o.hm_tris);
+    }
+    s.wall_s = now_s() - t0;
+
+    /* validation: Embree */
+    uint64_t mism = embree_mismatches(&s.tally);
+    bool embree_fail = o.check_embree && (s.tally.cause[RT_EMBREE_OTHER] > 0 ||
+                                          (double)mism > o.max_mismatch_rate * (double)s.tally.rays);
+    if (s.overflows)
+        embree_fail = true;   /* a ray the hardware's stack cannot trace is a failure too */
+
+    if (!o.quiet) {
+        printf("view       %s, %ux%u, %s", view->name, o.res_w, o.res_h, o.diffuse ? "diffuse paths" : "primary rays");
+        if (o.diffuse)
+            printf(" (<= %u bounces, seed %" PRIu64 ")", o.bounces, o.seed);
+        printf("\n");
+        printf("rays       %" PRIu64 " (%" PRIu64 " primary, %" PRIu64 " bounce), %" PRIu64 " hits, %" PRIu64
+               " stack overflows\n",
+               s.rays, s.primary_rays, s.bounce_rays, s.hits, s.overflows);
+        printf("traversal  %" PRIu64 " node visits (%.2f/ray), %" PRIu64 " box tests (%.2f/ray), %" PRIu64
+               " leaves (%.2f/ray),\n           %" PRIu64 " triangle tests (%.2f/ray), %" PRIu64 " pushes, %" PRIu64
+               " pops, %" PRIu64 " culls, max stack %u\n",
+               s.visits, per(s.visits, s.rays), s.box_tests, per(s.box_tests, s.rays), s.leaves, per(s.leaves, s.rays),
+               s.tri_tests, per(s.tri_tests, s.rays), s.pushes, s.pops, s.culls, s.max_stack);
+        if (o.check_embree) {
+            printf("embree     %" PRIu64 " rays compared: %" PRIu64 " identical (%.4f%%; %" PRIu64 " with bit-equal t), %" PRIu64
+                   " mismatches:",
+                   s.tally.rays, s.tally.cause[RT_EMBREE_SAME], 100.0 * per(s.tally.cause[RT_EMBREE_SAME], s.tally.rays),
+                   s.tally.exact_t, mism);
+            for (int k = RT_EMBREE_TIE; k < RT_EMBREE_CAUSES; k++)
+                printf(" %s %" PRIu64, rt_embree_cause_name((rt_embree_cause)k), s.tally.cause[k]);
+            printf("\n           allowed rate %g, unexplained (other) allowed 0: %s\n", o.max_mismatch_rate,
+                   embree_fail ? "FAIL" : "ok");
+        }
+        if (s.log_written)
+            printf("log        %s: %" PRIu64 " bytes, %.3f bytes per node visit (%" PRIu64 " blocks, %" PRIu64
+                   " of %" PRIu64 " rays derived from camera/bounce)\n",
+                   o.log, s.log.file_bytes, per(s.log.file_bytes, s.visits), s.log.blocks,
+                   s.log.rays_camera + s.log.rays_bounce, s.log.rays);
+        if (o.image)
+            printf("image      %s\n", o.image);
+        if (o.hm_visits)
+            printf("heatmap    %s: node visits per pixel, 0..%.0f\n", o.hm_visits, (double)s.visits_max);
+        if (o.hm_tris)
+            printf("heatmap    %s: triangle tests per pixel, 0..%.0f\n", o.hm_tris, (double)s.tris_max);
+        printf("time       %.3f s wall, %.3f s build, %.3f s tracing%s (%.3f Mrays/s)\n", s.wall_s,
+               bs.build_seconds, s.trace_s,
+               o.log || o.check_embree ? " incl. log/Embree" : "", s.trace_s > 0 ? (double)s.rays / s.trace_s / 1e6 : 0.0);
+        if (s.overflows)
+            printf("FAIL       %" PRIu64 " rays overflowed the %d-entry stack\n", s.overflows, tc.tp.stack_depth);
+    }
+    if (o.json && write_json(o.json, &ri, &s, false) != 0) {
+        rc = 2;
+        goto done;
+    }
+    rc = embree_fail ? 1 : 0;
+
+done:
+    if (rc == 2)
+        remove_written();
+    rt_tlog_writer_abort(tc.log);
+    rt_embree_free(tc.embree);
+    free(tc.rgb);
+    free(tc.hm_visits);
+    free(tc.hm_tris);
+    rt_bvh_image_free(&img);
+    rt_scene_free(&sc);
+    return rc;
+}

@@ -1,0 +1,63 @@
+/* stats.h — the statistics registry.
+ *
+ * Contract:
+ *  - A registry holds named statistics, each with a unit and a one-line
+ *    description; names are dotted paths ("trv0.node_visits"), unique within
+ *    a registry (a duplicate name returns the existing counter's storage for
+ *    counters/reals and NULL otherwise, message in ks_stats_error).
+ *  - Counters (uint64, incremented in place through the returned pointer, or
+ *    registered over a field of a module's struct), reals (double), histograms
+ *    (linear bins over [lo, hi) plus under/overflow, count/sum/min/max), and
+ *    derived formulas (a callback computing a double from the others, e.g. a
+ *    hit rate; or ks_stat_ratio of two named statistics).
+ *  - Output, in registration order: ks_stats_write_json (one JSON object:
+ *    a field per statistic, histograms as objects, plus "_units" and
+ *    "_descriptions" tables), ks_stats_write_csv (name,value,unit,description)
+ *    and ks_stats_write_summary (aligned human-readable table). Numbers are
+ *    printed deterministically (integers exact, reals with %.17g or shorter
+ *    round-trip form; non-finite reals as null in JSON).
+ * The registry is independent of any sim. */
+#ifndef KS_STATS_H
+#define KS_STATS_H
+
+#include <stdint.h>
+#include <stdio.h>
+
+typedef struct ks_stats ks_stats;
+typedef struct ks_histogram ks_histogram;
+typedef double (*ks_formula_fn)(const ks_stats *reg, void *user);
+
+ks_stats *ks_stats_create(void);
+void ks_stats_destroy(ks_stats *reg);
+const char *ks_stats_error(const ks_stats *reg);
+
+/* Returns storage owned by the registry, zero-initialised. */
+uint64_t *ks_stat_counter(ks_stats *reg, const char *name, const char *unit, const char *desc);
+double *ks_stat_real(ks_stats *reg, const char *name, const char *unit, const char *desc);
+/* Registers caller-owned storage (must outlive the registry's use); 0 / -1. */
+int ks_stat_counter_ref(ks_stats *reg, const char *name, const char *unit, const char *desc,
+                        const uint64_t *value);
+int ks_stat_real_ref(ks_stats *reg, const char *name, const char *unit, const char *desc,
+                     const double *value);
+ks_histogram *ks_stat_histogram(ks_stats *reg, const char *name, const char *unit,
+                                const char *desc, double lo, double hi, unsigned bins);
+int ks_stat_formula(ks_stats *reg, const char *name, const char *unit, const char *desc,
+                    ks_formula_fn fn, void *user);
+/* name = numerator / denominator (0 when the denominator is 0). */
+int ks_stat_ratio(ks_stats *reg, const char *name, const char *unit, const char *desc,
+                  const char *numerator, const char *denominator);
+
+void ks_histogram_add(ks_histogram *h, double value);
+uint64_t ks_histogram_count(const ks_histogram *h);
+double ks_histogram_mean(const ks_histogram *h);
+
+/* Value of a statistic by name (histograms: their mean); 0 when found. */
+int ks_stats_value(const ks_stats *reg, const char *name, double *out);
+unsigned ks_stats_count(const ks_stats *reg);
+
+/* 0 on success, -1 on a write error. */
+int ks_stats_write_json(const ks_stats *reg, FILE *out);
+int ks_stats_write_csv(const ks_stats *reg, FILE *out);
+int ks_stats_write_summary(const ks_stats *reg, FILE *out);
+
+#endif

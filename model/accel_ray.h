@@ -49,7 +49,9 @@ enum accel_event_kind {
 typedef void (*accel_event_fn)(void *user, uint32_t uid, int kind, uint32_t a, uint32_t b, float t);
 
 /* A synchronous cache probe (model/cache.h protocol: HIT, MISS, BLOCKED). */
-typedef cache_result (*accel_probe_fn)(void *ctx, uint64_t addr, uint32_t bytes, uint64_t now);
+/* *cycles (set on a hit): cycles the access occupies the port (bank
+ * conflicts: > 1 stalls the requester). */
+typedef cache_result (*accel_probe_fn)(void *ctx, uint64_t addr, uint32_t bytes, uint64_t now, uint32_t *cycles);
 
 typedef enum accel_ray_phase {
     RAY_VISIT,     /* target is an inner node to fetch and test */

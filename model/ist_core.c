@@ -6,7 +6,8 @@ ist_result ist_core_test(ist_core *c, accel_ray *r, uint64_t now)
     const accel_image *img = c->img;
     uint32_t tri = r->tri_next;
     uint64_t addr = img->tri_base + (uint64_t)tri * RT_TRI_BYTES;
-    cache_result cr = c->probe ? c->probe(c->probe_ctx, addr, RT_TRI_BYTES, now) : CACHE_HIT;
+    c->port_cycles = 1;
+    cache_result cr = c->probe ? c->probe(c->probe_ctx, addr, RT_TRI_BYTES, now, &c->port_cycles) : CACHE_HIT;
     if (cr != CACHE_HIT) {
         r->loops++;
         if (cr == CACHE_MISS) {

@@ -35,6 +35,7 @@ typedef struct ist_core {
     accel_event_fn ev;
     void *ev_user;
     ist_core_stats st;
+    uint32_t port_cycles;   /* cycles the last hit occupied the cache port (bank conflict > 1) */
 } ist_core;
 
 /* Tests triangle r->tri_next of the ray's leaf (phase RAY_LEAF). */

@@ -86,7 +86,8 @@ trv_pass_result trv_core_pass(trv_core *c, accel_ray *r, uint64_t now, uint32_t 
     /* RAY_VISIT: fetch the node through the node L1 */
     const accel_image *img = c->img;
     uint64_t addr = img->node_base + (uint64_t)r->target_ref * img->node_bytes;
-    cache_result cr = c->probe ? c->probe(c->probe_ctx, addr, img->node_bytes, now) : CACHE_HIT;
+    c->fetch_cycles = 1;
+    cache_result cr = c->probe ? c->probe(c->probe_ctx, addr, img->node_bytes, now, &c->fetch_cycles) : CACHE_HIT;
     if (cr != CACHE_HIT) {
         r->loops++;
         if (cr == CACHE_MISS) {

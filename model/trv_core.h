@@ -61,6 +61,7 @@ typedef struct trv_core {
     accel_event_fn ev;
     void *ev_user;
     trv_core_stats st;
+    uint32_t fetch_cycles;  /* cycles the last node fetch occupied the L1 port (bank conflict > 1) */
 } trv_core;
 
 /* False with a message on bad parameters (width mismatch, sizes). */

@@ -229,9 +229,10 @@ typedef struct flaky_mem {
     int seen[128];
 } flaky_mem;
 
-static cache_result flaky_probe(void *ctx, uint64_t addr, uint32_t bytes, uint64_t now)
+static cache_result flaky_probe(void *ctx, uint64_t addr, uint32_t bytes, uint64_t now, uint32_t *cycles)
 {
     (void)bytes, (void)now;
+    *cycles = 1;
     flaky_mem *m = ctx;
     if (++m->probes % 5 == 0)
         return CACHE_BLOCKED;
@@ -280,7 +281,7 @@ static void test_trv_ist_tiny(void)
         flaky_mem fm = {.misses_per_line = 2};
         trv_core trv;
         TB_CHECK(trv_core_init(&trv, &p, &sc.img, variant ? flaky_probe : NULL, &fm, err, sizeof err), "%s", err);
-        ist_core ist = {&sc.img, variant ? flaky_probe : NULL, &fm, log_ev, variant ? &flaky : &ideal, {0}};
+        ist_core ist = {&sc.img, variant ? flaky_probe : NULL, &fm, log_ev, variant ? &flaky : &ideal, {0}, 1};
         trv.ev = log_ev;
         trv.ev_user = variant ? &flaky : &ideal;
         accel_ray r;
@@ -322,7 +323,7 @@ static void test_trv_ist_tiny(void)
     TB_CHECK(trv_core_init(&trv, &p, &sc.img, NULL, NULL, err, sizeof err), "%s", err);
     ev_log nc = {0};
     trv.ev = log_ev, trv.ev_user = &nc;
-    ist_core ist = {&sc.img, NULL, NULL, log_ev, &nc, {0}};
+    ist_core ist = {&sc.img, NULL, NULL, log_ev, &nc, {0}, 1};
     accel_ray r;
     accel_ray_in in = {{0, 0, 0}, {1, 0, 0}, 0.0f, 1e30f, 7, 0};
     accel_ray_start(&r, &in, 0);

@@ -1,0 +1,346 @@
+/* clock.c — clocks and clocked processes with idle skipping (contract in
+ * clock.h).
+ *
+ * Each clock keeps a bit per process: `awake` (step at the next tick) and
+ * `woken` (woken for the next tick while a tick is running, merged after
+ * it), plus a min-heap of timers (cycle, process) for wake-ups further ahead.
+ * The clock itself is one entry in the sim's timed queue, at the next cycle
+ * where any process is due; when none is, the clock is not scheduled at all,
+ * so idle cycles cost nothing. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "kernel/sim_internal.h"
+
+static void clock_step(void *user);
+
+ks_clock *ks_clock_create(ks_sim *sim, const char *name, ks_time period)
+{
+    if (period < 0) {
+        ks__set_error(sim, "clock '%s': period %lld ps must be > 0", name ? name : "?",
+                      (long long)period);
+        return NULL;
+    }
+    ks_clock *c = ks__xcalloc(1, sizeof *c);
+    c->sim = sim;
+    c->name = ks__xstrdup(name ? name : "clk");
+    c->period = period ? period : KS_DEFAULT_PERIOD_PS;
+    c->stepper = ks__method_new(sim, c->name, clock_step, c);
+    c->stepper->clock = c;
+    c->stepper->dont_init = 1;
+    char evname[256];
+    snprintf(evname, sizeof evname, "%s.posedge", c->name);
+    ks_event_init(&c->posedge, sim, evname);
+    KS_GROW(sim->clocks, sim->n_clocks, sim->cap_clocks);
+    sim->clocks[sim->n_clocks++] = c;
+    return c;
+}
+
+void ks__clock_free(ks_clock *c)
+{
+    for (uint32_t i = 0; i < c->n_procs; i++) {
+        free(c->procs[i]->name);
+        free(c->procs[i]->wake_events);
+        free(c->procs[i]);
+    }
+    ks_event_destroy(&c->posedge);
+    free(c->procs);
+    free(c->awake);
+    free(c->woken);
+    free(c->timers);
+    free(c->name);
+    free(c);
+}
+
+const char *ks_clock_name(const ks_clock *c) { return c->name; }
+ks_time ks_clock_period(const ks_clock *c) { return c->period; }
+uint64_t ks_clock_cycle(const ks_clock *c) { return c->cur_cycle; }
+uint64_t ks_clock_ticks(const ks_clock *c) { return c->ticks; }
+ks_time ks_clock_time_of(const ks_clock *c, uint64_t cycle) { return (ks_time)cycle * c->period; }
+ks_event *ks_clock_posedge(ks_clock *c) { return &c->posedge; }
+
+uint64_t ks_clock_cycle_at_or_after(const ks_clock *c, ks_time t)
+{
+    if (t <= 0)
+        return 0;
+    return (uint64_t)((t + c->period - 1) / c->period);
+}
+
+int ks__clock_any_awake(const ks_clock *c)
+{
+    for (uint32_t w = 0; w < c->n_words; w++)
+        if (c->awake[w] | c->woken[w])
+            return 1;
+    return 0;
+}
+
+/* ---- scheduling of the clock's own tick ---- */
+
+static void schedule_tick(ks_clock *c, uint64_t cycle)
+{
+    ks_sim *sim = c->sim;
+    c->scheduled = 1;
+    c->sched_cycle = cycle;
+    c->tick_key = ks__next_key(sim, KS_K_CLOCK);
+    ks_time t = ks_clock_time_of(c, cycle);
+    if (t < sim->now)
+        t = sim->now; /* cannot happen for cycle >= next_min; defensive */
+    ks__heap_push(sim, t, c->tick_key, c);
+}
+
+void ks__clock_tick_entry(ks_clock *c, uint64_t key)
+{
+    if (!c->scheduled || c->tick_key != key)
+        return; /* superseded by an earlier reschedule */
+    ks__make_runnable(c->sim, c->stepper);
+}
+
+/* ---- timers ---- */
+
+static inline int tless(const ks_timer *a, const ks_timer *b)
+{
+    return a->cycle < b->cycle || (a->cycle == b->cycle && a->idx < b->idx);
+}
+
+static void timer_push(ks_clock *c, uint64_t cycle, uint32_t idx)
+{
+    KS_GROW(c->timers, c->n_timers, c->cap_timers);
+    ks_timer e = {cycle, idx, 0};
+    uint32_t i = c->n_timers++;
+    while (i > 0) {
+        uint32_t p = (i - 1) >> 1;
+        if (!tless(&e, &c->timers[p]))
+            break;
+        c->timers[i] = c->timers[p];
+        i = p;
+    }
+    c->timers[i] = e;
+}
+
+static void timer_pop(ks_clock *c)
+{
+    uint32_t n = --c->n_timers;
+    if (n == 0)
+        return;
+    ks_timer last = c->timers[n];
+    uint32_t i = 0;
+    for (;;) {
+        uint32_t l = 2 * i + 1;
+        if (l >= n)
+            break;
+        if (l + 1 < n && tless(&c->timers[l + 1], &c->timers[l]))
+            l++;
+        if (!tless(&c->timers[l], &last))
+            break;
+        c->timers[i] = c->timers[l];
+        i = l;
+    }
+    c->timers[i] = last;
+}
+
+/* ---- waking ---- */
+
+static void wake_cycle(ks_clocked *p, uint64_t k)
+{
+    ks_clock *c = p->clk;
+    if (k < c->next_min)
+        k = c->next_min;
+    uint64_t bit = (uint64_t)1 << (p->idx & 63);
+    if (c->in_tick) {
+        /* next_min == cur_cycle + 1 here */
+        if (k == c->next_min)
+            c->woken[p->idx >> 6] |= bit;
+        else if (p->last_timer != k) {
+            p->last_timer = k;
+            timer_push(c, k, p->idx);
+        }
+        return;
+    }
+    if (!c->scheduled || k < c->sched_cycle)
+        schedule_tick(c, k);
+    if (k == c->sched_cycle)
+        c->woken[p->idx >> 6] |= bit;
+    else if (p->last_timer != k) {
+        p->last_timer = k;
+        timer_push(c, k, p->idx);
+    }
+}
+
+void ks__clocked_wake_after_now(ks_clocked *p)
+{
+    ks_clock *c = p->clk;
+    ks_time now = c->sim->now;
+    uint64_t k;
+    if (c->started && now == c->cur_time)
+        k = c->cur_cycle + 1;
+    else
+        k = (uint64_t)(now / c->period) + 1;
+    wake_cycle(p, k);
+}
+
+void ks__clocked_wake_at_time(ks_clocked *p, ks_time t)
+{
+    ks_clock *c = p->clk;
+    uint64_t k;
+    if (c->started && t == c->cur_time + c->period)
+        k = c->cur_cycle + 1;
+    else
+        k = ks_clock_cycle_at_or_after(c, t);
+    wake_cycle(p, k);
+}
+
+void ks_clocked_wake(ks_clocked *p) { ks__clocked_wake_after_now(p); }
+void ks_clocked_wake_at_cycle(ks_clocked *p, uint64_t cycle) { wake_cycle(p, cycle); }
+
+/* ---- processes ---- */
+
+ks_clocked *ks_clocked_create(ks_clock *c, const char *name, ks_step_fn step, void *user)
+{
+    ks_sim *sim = c->sim;
+    if (!step) {
+        ks__set_error(sim, "clocked process '%s': no step function", name ? name : "?");
+        return NULL;
+    }
+    ks_clocked *p = ks__xcalloc(1, sizeof *p);
+    p->clk = c;
+    p->name = ks__xstrdup(name ? name : "clocked");
+    p->step = step;
+    p->user = user;
+    p->idx = c->n_procs;
+    p->last_timer = UINT64_MAX;
+    KS_GROW(c->procs, c->n_procs, c->cap_procs);
+    c->procs[c->n_procs++] = p;
+    uint32_t words = (c->n_procs + 63) / 64;
+    if (words > c->n_words) {
+        c->awake = ks__xrealloc(c->awake, words * sizeof *c->awake);
+        c->woken = ks__xrealloc(c->woken, words * sizeof *c->woken);
+        c->awake[words - 1] = c->woken[words - 1] = 0;
+        c->n_words = words;
+    }
+    sim->n_clocked++;
+    /* Starts awake at the first edge at or after now that has not ticked. */
+    uint64_t k = ks_clock_cycle_at_or_after(c, sim->now);
+    if (c->started && k <= c->cur_cycle)
+        k = c->cur_cycle + 1;
+    wake_cycle(p, k);
+    return p;
+}
+
+const char *ks_clocked_name(const ks_clocked *p) { return p->name; }
+ks_clock *ks_clocked_clock(const ks_clocked *p) { return p->clk; }
+uint64_t ks_clocked_steps(const ks_clocked *p) { return p->steps; }
+uint64_t ks_clocked_progress(const ks_clocked *p) { return p->progress; }
+
+void ks_clocked_wake_on(ks_clocked *p, ks_event *ev)
+{
+    KS_GROW(ev->clocked, ev->n_clocked, ev->cap_clocked);
+    ev->clocked[ev->n_clocked++] = p;
+    KS_GROW(p->wake_events, p->n_wake, p->cap_wake);
+    p->wake_events[p->n_wake++] = ev;
+}
+
+void ks_clocked_sleep_until_cycle(ks_clocked *p, uint64_t cycle)
+{
+    p->slept = 1;
+    p->sleep_until = cycle;
+}
+
+void ks_clocked_set_describe(ks_clocked *p, ks_busy_fn busy, ks_describe_fn describe)
+{
+    p->busy = busy;
+    p->describe = describe;
+}
+
+void ks_clock_set_exhaustive(ks_clock *c, int on) { c->exhaustive = (uint8_t)(on != 0); }
+
+/* ---- the tick ---- */
+
+static inline void step_one(ks_clock *c, ks_sim *sim, ks_clocked *p, uint64_t cycle)
+{
+    p->slept = 0;
+    int r = p->step(p->user, cycle);
+    p->steps++;
+    sim->activations++;
+    uint64_t bit = (uint64_t)1 << (p->idx & 63);
+    if (r > 0) {
+        p->progress += (uint64_t)r;
+        sim->progress += (uint64_t)r;
+        sim->last_progress = sim->now;
+        if (!p->slept) {
+            c->awake[p->idx >> 6] |= bit;
+            return;
+        }
+    }
+    c->awake[p->idx >> 6] &= ~bit;
+    if (p->slept && p->sleep_until > cycle && p->last_timer != p->sleep_until) {
+        p->last_timer = p->sleep_until;
+        timer_push(c, p->sleep_until, p->idx);
+    }
+}
+
+static void clock_step(void *user)
+{
+    ks_clock *c = user;
+    ks_sim *sim = c->sim;
+    uint64_t cycle = c->sched_cycle;
+    c->scheduled = 0;
+    c->cur_cycle = cycle;
+    c->cur_time = sim->now;
+    c->next_min = cycle + 1;
+    c->started = 1;
+    c->in_tick = 1;
+    c->ticks++;
+    uint32_t nw = c->n_words;
+    while (c->n_timers && c->timers[0].cycle <= cycle) {
+        uint32_t i = c->timers[0].idx;
+        c->awake[i >> 6] |= (uint64_t)1 << (i & 63);
+        if (c->procs[i]->last_timer == c->timers[0].cycle)
+            c->procs[i]->last_timer = UINT64_MAX;
+        timer_pop(c);
+    }
+    for (uint32_t w = 0; w < nw; w++) {
+        c->awake[w] |= c->woken[w];
+        c->woken[w] = 0;
+    }
+    if (c->exhaustive) {
+        for (uint32_t i = 0; i < c->n_procs; i++)
+            step_one(c, sim, c->procs[i], cycle);
+    } else {
+        for (uint32_t w = 0; w < nw; w++) {
+            uint64_t bits = c->awake[w];
+            while (bits) {
+                uint32_t i = (w << 6) | (uint32_t)__builtin_ctzll(bits);
+                bits &= bits - 1;
+                step_one(c, sim, c->procs[i], cycle);
+            }
+        }
+    }
+    c->in_tick = 0;
+    if (c->posedge.n_statics || c->posedge.dyn_head)
+        ks_event_notify(&c->posedge);
+    int any = 0;
+    for (uint32_t w = 0; w < nw; w++) {
+        c->awake[w] |= c->woken[w];
+        c->woken[w] = 0;
+        any |= c->awake[w] != 0;
+    }
+    uint64_t next = UINT64_MAX;
+    if (any || c->posedge.n_statics)
+        next = cycle + 1;
+    else if (c->n_timers)
+        next = c->exhaustive ? cycle + 1 : c->timers[0].cycle;
+    if (next != UINT64_MAX && !c->scheduled)
+        schedule_tick(c, next);
+}
+
+/* Called at the start of each run: a clock whose posedge has method
+ * waiters ticks every cycle even with no clocked process awake. */
+void ks__clock_start(ks_clock *c)
+{
+    if (c->posedge.n_statics && !c->scheduled && !c->in_tick) {
+        uint64_t k = ks_clock_cycle_at_or_after(c, c->sim->now);
+        if (k < c->next_min)
+            k = c->next_min;
+        schedule_tick(c, k);
+    }
+}

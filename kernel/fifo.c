@@ -1,0 +1,179 @@
+/* fifo.c — timed FIFO channels (contract in fifo.h): a ring buffer of
+ * fixed-size items with the ready time stored per entry. */
+#include <stdlib.h>
+#include <string.h>
+
+#include "kernel/sim_internal.h"
+
+ks_fifo *ks_fifo_create(ks_sim *sim, const char *name, size_t elem_size, uint32_t capacity,
+                        uint32_t latency_cycles, ks_clock *clock)
+{
+    if (!name)
+        name = "fifo";
+    if (elem_size == 0 || elem_size > (1u << 20)) {
+        ks__set_error(sim, "fifo '%s': element size %zu out of range 1..1048576", name, elem_size);
+        return NULL;
+    }
+    if (capacity == 0 || capacity > (1u << 24)) {
+        ks__set_error(sim, "fifo '%s': capacity %u out of range 1..16777216", name, capacity);
+        return NULL;
+    }
+    if (latency_cycles && !clock) {
+        ks__set_error(sim, "fifo '%s': a latency of %u cycles needs a clock", name, latency_cycles);
+        return NULL;
+    }
+    ks_fifo *f = ks__xcalloc(1, sizeof *f);
+    f->sim = sim;
+    f->now = &sim->now;
+    f->clock = clock;
+    f->name = ks__xstrdup(name);
+    f->elem_size = (uint32_t)elem_size;
+    f->capacity = capacity;
+    f->latency = latency_cycles;
+    f->latency_ps = clock ? (ks_time)latency_cycles * ks_clock_period(clock) : 0;
+    f->data = ks__xcalloc(capacity, elem_size);
+    f->ready = ks__xcalloc(capacity, sizeof *f->ready);
+    char ev[512];
+    snprintf(ev, sizeof ev, "%s.written", name);
+    ks_event_init(&f->ev_written, sim, ev);
+    snprintf(ev, sizeof ev, "%s.freed", name);
+    ks_event_init(&f->ev_freed, sim, ev);
+    f->created = f->last_change = sim->now;
+    KS_GROW(sim->fifos, sim->n_fifos, sim->cap_fifos);
+    sim->fifos[sim->n_fifos++] = f;
+    if (sim->vcd)
+        ks__vcd_trace_fifo(sim->vcd, f);
+    return f;
+}
+
+void ks__fifo_free(ks_fifo *f)
+{
+    ks_event_destroy(&f->ev_written);
+    ks_event_destroy(&f->ev_freed);
+    free(f->data);
+    free(f->ready);
+    free(f->name);
+    free(f);
+}
+
+const char *ks_fifo_name(const ks_fifo *f) { return f->name; }
+ks_event *ks_fifo_ev_written(ks_fifo *f) { return &f->ev_written; }
+ks_event *ks_fifo_ev_freed(ks_fifo *f) { return &f->ev_freed; }
+uint32_t ks_fifo_max_occupancy(const ks_fifo *f) { return f->max_occ; }
+uint64_t ks_fifo_total_writes(const ks_fifo *f) { return f->writes; }
+uint64_t ks_fifo_total_reads(const ks_fifo *f) { return f->reads; }
+uint64_t ks_fifo_rejected_writes(const ks_fifo *f) { return f->rejected; }
+
+ks_time ks_fifo_head_ready_time(const ks_fifo *f)
+{
+    return f->count ? f->ready[f->head] : KS_TIME_MAX;
+}
+
+double ks_fifo_mean_occupancy(const ks_fifo *f)
+{
+    ks_time now = *f->now;
+    ks_time span = now - f->created;
+    if (span <= 0)
+        return (double)f->count;
+    double area = f->occ_area + (double)f->count * (double)(now - f->last_change);
+    return area / (double)span;
+}
+
+uint32_t ks_fifo_suggested_capacity(const ks_fifo *f)
+{
+    uint32_t c = 1;
+    while (c <= f->max_occ && c < (1u << 31))
+        c <<= 1;
+    return c;
+}
+
+int ks_fifo_set_capacity(ks_fifo *f, uint32_t capacity)
+{
+    if (capacity == 0 || capacity > (1u << 24)) {
+        ks__set_error(f->sim, "fifo '%s': capacity %u out of range 1..16777216", f->name, capacity);
+        return -1;
+    }
+    if (capacity < f->count) {
+        ks__set_error(f->sim, "fifo '%s': capacity %u below its occupancy %u", f->name, capacity,
+                      f->count);
+        return -1;
+    }
+    unsigned char *data = ks__xcalloc(capacity, f->elem_size);
+    ks_time *ready = ks__xcalloc(capacity, sizeof *ready);
+    for (uint32_t i = 0; i < f->count; i++) {
+        uint32_t j = (f->head + i) % f->capacity;
+        memcpy(data + (size_t)i * f->elem_size, f->data + (size_t)j * f->elem_size, f->elem_size);
+        ready[i] = f->ready[j];
+    }
+    free(f->data);
+    free(f->ready);
+    f->data = data;
+    f->ready = ready;
+    f->head = 0;
+    f->capacity = capacity;
+    return 0;
+}
+
+static inline void occ_change(ks_fifo *f, ks_time now)
+{
+    f->occ_area += (double)f->count * (double)(now - f->last_change);
+    f->last_change = now;
+}
+
+int ks_fifo_write(ks_fifo *f, const void *item)
+{
+    if (f->count == f->capacity) {
+        f->rejected++;
+        return 0;
+    }
+    ks_time now = *f->now;
+    if (now != f->last_change)
+        occ_change(f, now);
+    uint32_t i = f->head + f->count;
+    if (i >= f->capacity)
+        i -= f->capacity;
+    memcpy(f->data + (size_t)i * f->elem_size, item, f->elem_size);
+    ks_time ready = now + f->latency_ps;
+    f->ready[i] = ready;
+    f->count++;
+    f->writes++;
+    if (f->count > f->max_occ)
+        f->max_occ = f->count;
+    if (f->vcd_occ)
+        ks_vcd_set(f->vcd_occ, f->count);
+    if (f->latency_ps)
+        ks_event_notify_at(&f->ev_written, ready);
+    else
+        ks_event_notify_delta(&f->ev_written);
+    return 1;
+}
+
+int ks_fifo_read(ks_fifo *f, void *out)
+{
+    ks_time now = *f->now;
+    if (!f->count || f->ready[f->head] > now)
+        return 0;
+    if (now != f->last_change)
+        occ_change(f, now);
+    if (out)
+        memcpy(out, f->data + (size_t)f->head * f->elem_size, f->elem_size);
+    if (++f->head == f->capacity)
+        f->head = 0;
+    f->count--;
+    f->reads++;
+    if (f->vcd_occ)
+        ks_vcd_set(f->vcd_occ, f->count);
+    ks_event_notify_delta(&f->ev_freed);
+    /* Re-announce the next item when it is not ready yet: the event keeps
+     * only its earliest pending notification, so a later write's one may
+     * have been dropped while an earlier one was pending. */
+    if (f->count && f->ready[f->head] > now)
+        ks_event_notify_at(&f->ev_written, f->ready[f->head]);
+    return 1;
+}
+
+uint32_t ks_sim_fifo_count(const ks_sim *sim) { return (uint32_t)sim->n_fifos; }
+ks_fifo *ks_sim_fifo_at(const ks_sim *sim, uint32_t i)
+{
+    return i < sim->n_fifos ? sim->fifos[i] : NULL;
+}

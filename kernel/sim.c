@@ -1,0 +1,439 @@
+/* sim.c — the scheduler: timed queue, delta cycles, run loop, deadlock
+ * detection (contract in sim.h). */
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "kernel/sim_internal.h"
+
+void *ks__xmalloc(size_t n)
+{
+    void *p = malloc(n ? n : 1);
+    if (!p) {
+        fprintf(stderr, "rtsim kernel: out of memory (%zu bytes)\n", n);
+        abort();
+    }
+    return p;
+}
+
+void *ks__xcalloc(size_t n, size_t size)
+{
+    void *p = calloc(n ? n : 1, size ? size : 1);
+    if (!p) {
+        fprintf(stderr, "rtsim kernel: out of memory (%zu x %zu bytes)\n", n, size);
+        abort();
+    }
+    return p;
+}
+
+void *ks__xrealloc(void *p, size_t n)
+{
+    void *q = realloc(p, n ? n : 1);
+    if (!q) {
+        fprintf(stderr, "rtsim kernel: out of memory (%zu bytes)\n", n);
+        abort();
+    }
+    return q;
+}
+
+char *ks__xstrdup(const char *s)
+{
+    if (!s)
+        s = "";
+    size_t n = strlen(s) + 1;
+    char *d = ks__xmalloc(n);
+    memcpy(d, s, n);
+    return d;
+}
+
+void ks__set_error(ks_sim *sim, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(sim->error, sizeof sim->error, fmt, ap);
+    va_end(ap);
+}
+
+const char *ks_sim_error(const ks_sim *sim) { return sim->error; }
+
+ks_sim *ks_sim_create(void)
+{
+    ks_sim *sim = ks__xcalloc(1, sizeof *sim);
+    sim->dl_cycles = 100000;
+    sim->report = ks__xstrdup("");
+    return sim;
+}
+
+void ks_sim_destroy(ks_sim *sim)
+{
+    if (!sim)
+        return;
+    if (sim->vcd)
+        ks_vcd_close(sim->vcd);
+    for (size_t i = 0; i < sim->n_fifos; i++)
+        ks__fifo_free(sim->fifos[i]);
+    for (size_t i = 0; i < sim->n_signals; i++)
+        ks__signal_free(sim->signals[i]);
+    for (size_t i = 0; i < sim->n_clocks; i++)
+        ks__clock_free(sim->clocks[i]);
+    for (size_t i = 0; i < sim->n_methods; i++)
+        ks__method_free(sim->methods[i]);
+    free(sim->fifos);
+    free(sim->signals);
+    free(sim->clocks);
+    free(sim->methods);
+    free(sim->heap);
+    free(sim->run);
+    free(sim->delta);
+    free(sim->delta2);
+    free(sim->upd);
+    free(sim->report);
+    free(sim);
+}
+
+ks_time ks_sim_now(const ks_sim *sim) { return sim->now; }
+uint64_t ks_sim_delta_count(const ks_sim *sim) { return sim->deltas; }
+uint64_t ks_sim_activations(const ks_sim *sim) { return sim->activations; }
+void ks_sim_stop(ks_sim *sim) { sim->stop = 1; }
+void ks_sim_set_deadlock_cycles(ks_sim *sim, uint64_t cycles) { sim->dl_cycles = cycles; }
+uint64_t ks_sim_total_progress(const ks_sim *sim) { return sim->progress; }
+const char *ks_sim_deadlock_report(const ks_sim *sim) { return sim->report; }
+
+void ks_sim_progress(ks_sim *sim, uint64_t n)
+{
+    if (n) {
+        sim->progress += n;
+        sim->last_progress = sim->now;
+    }
+}
+
+const char *ks_run_status_name(ks_run_status st)
+{
+    switch (st) {
+    case KS_RUN_FINISHED: return "finished";
+    case KS_RUN_TIME_LIMIT: return "time limit";
+    case KS_RUN_DEADLOCK: return "deadlock";
+    case KS_RUN_STOPPED: return "stopped";
+    }
+    return "?";
+}
+
+uint64_t ks__next_key(ks_sim *sim, unsigned kind) { return (++sim->seq << 2) | kind; }
+
+/* ---- timed queue: binary min-heap on (t, key) ---- */
+
+static inline int qless(const ks_qentry *a, const ks_qentry *b)
+{
+    return a->t < b->t || (a->t == b->t && a->key < b->key);
+}
+
+void ks__heap_push(ks_sim *sim, ks_time t, uint64_t key, void *obj)
+{
+    KS_GROW(sim->heap, sim->n_heap, sim->cap_heap);
+    ks_qentry e = {t, key, obj};
+    ks_qentry *h = sim->heap;
+    size_t i = sim->n_heap++;
+    while (i > 0) {
+        size_t p = (i - 1) >> 1;
+        if (!qless(&e, &h[p]))
+            break;
+        h[i] = h[p];
+        i = p;
+    }
+    h[i] = e;
+}
+
+/* Removes the minimum: walk the hole down to a leaf along the smaller
+ * children (one comparison per level), then sift the last element up from
+ * there (it usually belongs near the bottom). */
+static void heap_pop(ks_sim *sim)
+{
+    ks_qentry *h = sim->heap;
+    size_t n = --sim->n_heap;
+    if (n == 0)
+        return;
+    ks_qentry last = h[n];
+    size_t i = 0;
+    for (;;) {
+        size_t c = 2 * i + 1;
+        if (c >= n)
+            break;
+        if (c + 1 < n && qless(&h[c + 1], &h[c]))
+            c++;
+        h[i] = h[c];
+        i = c;
+    }
+    while (i > 0) {
+        size_t p = (i - 1) >> 1;
+        if (!qless(&last, &h[p]))
+            break;
+        h[i] = h[p];
+        i = p;
+    }
+    h[i] = last;
+}
+
+/* ---- delta notifications and runnable queue ---- */
+
+void ks__delta_push(ks_sim *sim, void *obj, uint64_t key)
+{
+    KS_GROW(sim->delta, sim->n_delta, sim->cap_delta);
+    sim->delta[sim->n_delta].obj = obj;
+    sim->delta[sim->n_delta].key = key;
+    sim->n_delta++;
+}
+
+void ks__make_runnable(ks_sim *sim, ks_method *m)
+{
+    if (m->runnable)
+        return;
+    m->runnable = 1;
+    KS_GROW(sim->run, sim->n_run, sim->cap_run);
+    sim->run[sim->n_run++] = m;
+}
+
+static void fire_entry(void *obj, uint64_t key)
+{
+    switch (key & 3) {
+    case KS_K_EVENT: {
+        ks_event *ev = obj;
+        if (ev && ev->pending != KS_PEND_NONE && ev->pending_key == key) {
+            ev->pending = KS_PEND_NONE;
+            ks__event_trigger(ev);
+        }
+        break;
+    }
+    case KS_K_TIMEOUT: ks__method_timeout(obj, key); break;
+    case KS_K_CLOCK: ks__clock_tick_entry(obj, key); break;
+    }
+}
+
+/* ---- deadlock detection ---- */
+
+static int fifo_event_owner(const ks_sim *sim, const ks_event *ev, const ks_fifo **out)
+{
+    for (size_t i = 0; i < sim->n_fifos; i++) {
+        const ks_fifo *f = sim->fifos[i];
+        if (ev == &f->ev_written || ev == &f->ev_freed) {
+            *out = f;
+            return 1;
+        }
+    }
+    return 0;
+}
+
+typedef struct sbuf {
+    char *s;
+    size_t n, cap;
+} sbuf;
+
+static void sb_printf(sbuf *b, const char *fmt, ...)
+{
+    for (;;) {
+        va_list ap;
+        va_start(ap, fmt);
+        int k = vsnprintf(b->s ? b->s + b->n : NULL, b->s ? b->cap - b->n : 0, fmt, ap);
+        va_end(ap);
+        if (k < 0)
+            return;
+        if (b->s && b->n + (size_t)k < b->cap) {
+            b->n += (size_t)k;
+            return;
+        }
+        b->cap = (b->cap + (size_t)k + 1) * 2;
+        b->s = ks__xrealloc(b->s, b->cap);
+    }
+}
+
+static void sb_waits(sbuf *b, const ks_sim *sim, ks_event *const *evs, uint32_t n)
+{
+    if (n == 0) {
+        sb_printf(b, " (no wake-up events)");
+        return;
+    }
+    sb_printf(b, " waits on:");
+    for (uint32_t i = 0; i < n; i++) {
+        const ks_fifo *f;
+        sb_printf(b, "%s %s", i ? "," : "", evs[i]->name);
+        if (fifo_event_owner(sim, evs[i], &f))
+            sb_printf(b, " [fifo %u/%u%s]", f->count, f->capacity,
+                      f->count == f->capacity ? " full" : f->count == 0 ? " empty" : "");
+    }
+}
+
+/* Work is pending when a FIFO holds items, a unit says it is busy, or a
+ * clocked process asked to be stepped again. */
+static int work_pending(const ks_sim *sim)
+{
+    for (size_t i = 0; i < sim->n_fifos; i++)
+        if (sim->fifos[i]->count)
+            return 1;
+    for (size_t i = 0; i < sim->n_clocks; i++) {
+        const ks_clock *c = sim->clocks[i];
+        if (ks__clock_any_awake(c))
+            return 1;
+        for (uint32_t j = 0; j < c->n_procs; j++)
+            if (c->procs[j]->busy && c->procs[j]->busy(c->procs[j]->user))
+                return 1;
+    }
+    for (size_t i = 0; i < sim->n_methods; i++)
+        if (sim->methods[i]->busy && sim->methods[i]->busy(sim->methods[i]->user))
+            return 1;
+    return 0;
+}
+
+static ks_time ref_period(const ks_sim *sim)
+{
+    return sim->n_clocks ? sim->clocks[0]->period : KS_DEFAULT_PERIOD_PS;
+}
+
+static void build_report(ks_sim *sim, const char *why)
+{
+    sbuf b = {0};
+    char line[512];
+    sb_printf(&b, "deadlock at t=%lld ps: %s\n", (long long)sim->now, why);
+    sb_printf(&b, "last progress at t=%lld ps (total progress %llu)\n",
+              (long long)sim->last_progress, (unsigned long long)sim->progress);
+    sb_printf(&b, "processes:\n");
+    for (size_t i = 0; i < sim->n_clocks; i++) {
+        const ks_clock *c = sim->clocks[i];
+        for (uint32_t j = 0; j < c->n_procs; j++) {
+            const ks_clocked *p = c->procs[j];
+            int awake = (c->awake[j >> 6] >> (j & 63)) & 1;
+            int busy = p->busy ? p->busy(p->user) : -1;
+            sb_printf(&b, "  %s (clocked on %s, %s%s)", p->name, c->name, awake ? "awake" : "asleep",
+                      busy < 0 ? "" : busy ? ", busy" : ", idle");
+            sb_waits(&b, sim, p->wake_events, p->n_wake);
+            if (p->describe) {
+                line[0] = 0;
+                p->describe(p->user, line, sizeof line);
+                sb_printf(&b, "; state: %s", line);
+            }
+            sb_printf(&b, "\n");
+        }
+    }
+    for (size_t i = 0; i < sim->n_methods; i++) {
+        const ks_method *m = sim->methods[i];
+        if (m->clock)
+            continue;
+        int busy = m->busy ? m->busy(m->user) : -1;
+        sb_printf(&b, "  %s (method%s)", m->name, busy < 0 ? "" : busy ? ", busy" : ", idle");
+        if (m->dyn_mode == KS_DYN_EVENT || m->dyn_mode == KS_DYN_EVENT_TIMEOUT)
+            sb_waits(&b, sim, &m->dyn_event, 1);
+        else
+            sb_waits(&b, sim, m->sens, m->n_sens);
+        if (m->describe) {
+            line[0] = 0;
+            m->describe(m->user, line, sizeof line);
+            sb_printf(&b, "; state: %s", line);
+        }
+        sb_printf(&b, "\n");
+    }
+    sb_printf(&b, "channels holding items or full:\n");
+    int any = 0;
+    for (size_t i = 0; i < sim->n_fifos; i++) {
+        const ks_fifo *f = sim->fifos[i];
+        if (!f->count && f->capacity)
+            continue;
+        any = 1;
+        sb_printf(&b, "  %s: %u/%u entries%s, oldest ready at t=%lld ps\n", f->name, f->count,
+                  f->capacity, f->count == f->capacity ? " (full)" : "",
+                  (long long)f->ready[f->head]);
+    }
+    if (!any)
+        sb_printf(&b, "  (none)\n");
+    free(sim->report);
+    sim->report = b.s ? b.s : ks__xstrdup("");
+}
+
+/* ---- the run loop ---- */
+
+static void init_new_methods(ks_sim *sim)
+{
+    while (sim->n_uninit_from < sim->n_methods)
+        ks__method_init(sim, sim->methods[sim->n_uninit_from++]);
+}
+
+ks_run_status ks_sim_run(ks_sim *sim, ks_time until)
+{
+    sim->stop = 0;
+    sim->running = 1;
+    ks_run_status st;
+    for (size_t i = 0; i < sim->n_clocks; i++)
+        ks__clock_start(sim->clocks[i]);
+    for (;;) {
+        /* evaluate */
+        init_new_methods(sim);
+        for (size_t i = 0; i < sim->n_run; i++) {
+            ks_method *m = sim->run[i];
+            m->runnable = 0;
+            m->runs++;
+            sim->activations++;
+            m->fn(m->user);
+        }
+        sim->n_run = 0;
+        /* update */
+        for (size_t i = 0; i < sim->n_upd; i++)
+            ks__signal_update(sim->upd[i]);
+        sim->n_upd = 0;
+        if (sim->stop) {
+            st = KS_RUN_STOPPED;
+            break;
+        }
+        /* delta notification (entries pushed while firing go to the next
+         * round: swap the lists first) */
+        if (sim->n_delta) {
+            ks_dentry *d = sim->delta;
+            size_t nd = sim->n_delta, cd = sim->cap_delta;
+            sim->delta = sim->delta2;
+            sim->cap_delta = sim->cap_delta2;
+            sim->n_delta = 0;
+            for (size_t i = 0; i < nd; i++)
+                fire_entry(d[i].obj, d[i].key);
+            sim->delta2 = d;
+            sim->cap_delta2 = cd;
+        }
+        if (sim->n_run || sim->n_delta || sim->n_uninit_from < sim->n_methods) {
+            sim->deltas++;
+            continue;
+        }
+        /* advance time */
+        if (sim->n_heap == 0) {
+            if (sim->dl_cycles && sim->n_clocked && work_pending(sim)) {
+                build_report(sim, "nothing is left to run but work is pending");
+                st = KS_RUN_DEADLOCK;
+            } else {
+                st = KS_RUN_FINISHED;
+            }
+            break;
+        }
+        ks_time t = sim->heap[0].t;
+        if (t > until) {
+            sim->now = until;
+            st = KS_RUN_TIME_LIMIT;
+            break;
+        }
+        if (sim->dl_cycles && sim->n_clocked &&
+            t - sim->last_progress > (ks_time)sim->dl_cycles * ref_period(sim)) {
+            if (work_pending(sim)) {
+                char why[160];
+                snprintf(why, sizeof why, "no progress for %llu cycles while work is pending",
+                         (unsigned long long)sim->dl_cycles);
+                build_report(sim, why);
+                st = KS_RUN_DEADLOCK;
+                break;
+            }
+            sim->last_progress = t;
+        }
+        sim->now = t;
+        do {
+            ks_qentry e = sim->heap[0];
+            heap_pop(sim);
+            fire_entry(e.obj, e.key);
+        } while (sim->n_heap && sim->heap[0].t == t);
+        sim->deltas++;
+    }
+    sim->running = 0;
+    return st;
+}

@@ -1,0 +1,575 @@
+/* vcd.c — VCD writer (contract in vcd.h). Values are formatted by hand
+ * (binary through a byte -> 8 characters table) into one large buffer that
+ * is written out in big blocks. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "kernel/sim_internal.h"
+
+enum { VAR_BIT = 0, VAR_INT = 1, VAR_ENUM = 2 };
+#define VCD_BUF (1u << 20)
+
+struct ks_vcd_var {
+    ks_vcd *vcd;
+    uint64_t value;
+    uint64_t mask;
+    uint8_t kind;
+    uint8_t idlen;
+    char id[6];
+    unsigned width;
+    const char *const *names;
+    unsigned n_names;
+    char *name;
+    unsigned order;
+};
+
+struct ks_vcd {
+    ks_sim *sim;
+    const ks_time *now;
+    FILE *f;
+    char *path, *tmp_path;
+    int direct;
+    ks_time ts_ps;
+    char ts_str[24];
+    ks_time begin, end;
+    char **pats;
+    unsigned n_pats;
+    ks_vcd_var **vars;
+    unsigned n_vars, cap_vars;
+    char *buf;
+    size_t pos;
+    uint64_t flushed;
+    int64_t last_vt;
+    uint8_t header_done, started, ended, io_error;
+};
+
+static char bin8[256][8];
+static int bin8_ready;
+
+static void init_tables(void)
+{
+    if (bin8_ready)
+        return;
+    for (int v = 0; v < 256; v++)
+        for (int b = 0; b < 8; b++)
+            bin8[v][b] = (char)('0' + ((v >> (7 - b)) & 1));
+    bin8_ready = 1;
+}
+
+/* ---- output buffer ---- */
+
+static void flush_buf(ks_vcd *d)
+{
+    if (d->pos && !d->io_error) {
+        if (fwrite(d->buf, 1, d->pos, d->f) != d->pos)
+            d->io_error = 1;
+    }
+    d->flushed += d->pos;
+    d->pos = 0;
+}
+
+static inline void ensure(ks_vcd *d, size_t n)
+{
+    if (d->pos + n > VCD_BUF)
+        flush_buf(d);
+}
+
+static void put_str(ks_vcd *d, const char *s)
+{
+    size_t n = strlen(s);
+    if (n > VCD_BUF / 2) { /* very long text: write through */
+        flush_buf(d);
+        if (!d->io_error && fwrite(s, 1, n, d->f) != n)
+            d->io_error = 1;
+        d->flushed += n;
+        return;
+    }
+    ensure(d, n);
+    memcpy(d->buf + d->pos, s, n);
+    d->pos += n;
+}
+
+static inline char *put_u64(char *p, uint64_t v)
+{
+    char tmp[24];
+    int n = 0;
+    do {
+        tmp[n++] = (char)('0' + v % 10);
+        v /= 10;
+    } while (v);
+    while (n)
+        *p++ = tmp[--n];
+    return p;
+}
+
+/* Binary without leading zeros ("0" for zero). */
+static inline char *put_bin(char *p, uint64_t v)
+{
+    if (v == 0) {
+        *p++ = '0';
+        return p;
+    }
+    int nb = 64 - __builtin_clzll(v);
+    int lead = nb & 7;
+    int sh = nb - lead;
+    for (int i = lead - 1; i >= 0; i--)
+        *p++ = (char)('0' + ((v >> (sh + i)) & 1));
+    while (sh > 0) {
+        sh -= 8;
+        memcpy(p, bin8[(v >> sh) & 255], 8);
+        p += 8;
+    }
+    return p;
+}
+
+static void emit_value(ks_vcd *d, const ks_vcd_var *v)
+{
+    if (v->kind == VAR_ENUM) {
+        const char *s = v->value < v->n_names && v->names[v->value] ? v->names[v->value] : "?";
+        size_t n = strlen(s);
+        if (n > 4096)
+            n = 4096;
+        ensure(d, n + 16);
+        char *p = d->buf + d->pos;
+        *p++ = 's';
+        for (size_t i = 0; i < n; i++)
+            *p++ = (s[i] == ' ' || s[i] == '\n' || s[i] == '\t') ? '_' : s[i];
+        *p++ = ' ';
+        memcpy(p, v->id, v->idlen);
+        p += v->idlen;
+        *p++ = '\n';
+        d->pos = (size_t)(p - d->buf);
+        return;
+    }
+    ensure(d, 80);
+    char *p = d->buf + d->pos;
+    if (v->kind == VAR_BIT) {
+        *p++ = (char)('0' + (v->value & 1));
+    } else {
+        *p++ = 'b';
+        p = put_bin(p, v->value);
+        *p++ = ' ';
+    }
+    memcpy(p, v->id, v->idlen);
+    p += v->idlen;
+    *p++ = '\n';
+    d->pos = (size_t)(p - d->buf);
+}
+
+static void emit_time(ks_vcd *d, ks_time t)
+{
+    int64_t vt = d->ts_ps == 1 ? t : t / d->ts_ps;
+    if (vt == d->last_vt)
+        return;
+    d->last_vt = vt;
+    ensure(d, 32);
+    char *p = d->buf + d->pos;
+    *p++ = '#';
+    p = put_u64(p, (uint64_t)vt);
+    *p++ = '\n';
+    d->pos = (size_t)(p - d->buf);
+}
+
+/* ---- header ---- */
+
+/* Compares the scope parts (all but the last element) of two dotted names
+ * element by element, so that sorting groups each scope's variables. */
+static int scope_cmp(const char *a, const char *b)
+{
+    const char *ea = strrchr(a, '.'), *eb = strrchr(b, '.');
+    size_t la = ea ? (size_t)(ea - a) : 0, lb = eb ? (size_t)(eb - b) : 0;
+    size_t i = 0, j = 0;
+    for (;;) {
+        int enda = i >= la, endb = j >= lb;
+        if (enda || endb)
+            return enda && endb ? 0 : enda ? -1 : 1;
+        size_t si = i, sj = j;
+        while (i < la && a[i] != '.')
+            i++;
+        while (j < lb && b[j] != '.')
+            j++;
+        size_t na = i - si, nb = j - sj;
+        int c = memcmp(a + si, b + sj, na < nb ? na : nb);
+        if (c)
+            return c;
+        if (na != nb)
+            return na < nb ? -1 : 1;
+        if (i < la)
+            i++;
+        if (j < lb)
+            j++;
+    }
+}
+
+static int var_cmp(const void *pa, const void *pb)
+{
+    const ks_vcd_var *a = *(ks_vcd_var *const *)pa, *b = *(ks_vcd_var *const *)pb;
+    int c = scope_cmp(a->name, b->name);
+    if (c)
+        return c;
+    return a->order < b->order ? -1 : a->order > b->order;
+}
+
+static void write_header(ks_vcd *d)
+{
+    d->header_done = 1;
+    put_str(d, "$version rtsim kernel VCD writer $end\n$timescale ");
+    put_str(d, d->ts_str);
+    put_str(d, " $end\n");
+    ks_vcd_var **sorted = ks__xmalloc((d->n_vars + 1) * sizeof *sorted);
+    if (d->n_vars)
+        memcpy(sorted, d->vars, d->n_vars * sizeof *sorted);
+    qsort(sorted, d->n_vars, sizeof *sorted, var_cmp);
+    /* stack of open scopes as (start, length) into the current var name */
+    char open_scope[4096] = "";
+    size_t open_len = 0; /* length of the dotted scope path that is open */
+    int depth = 0;
+    char line[4608];
+    for (unsigned k = 0; k < d->n_vars; k++) {
+        const ks_vcd_var *v = sorted[k];
+        const char *dot = strrchr(v->name, '.');
+        size_t slen = dot ? (size_t)(dot - v->name) : 0;
+        if (slen >= sizeof open_scope)
+            slen = sizeof open_scope - 1;
+        /* common prefix in whole elements */
+        size_t common = 0, i = 0;
+        while (i < slen && i < open_len && v->name[i] == open_scope[i]) {
+            i++;
+            if ((i == slen || v->name[i] == '.') && (i == open_len || open_scope[i] == '.'))
+                common = i;
+        }
+        /* close scopes beyond `common` */
+        int keep = 0;
+        for (size_t q = 0; q < common; q++)
+            keep += open_scope[q] == '.';
+        if (common)
+            keep++;
+        for (; depth > keep; depth--)
+            put_str(d, "$upscope $end\n");
+        /* open the rest */
+        size_t pos = common;
+        while (pos < slen) {
+            if (v->name[pos] == '.')
+                pos++;
+            size_t e = pos;
+            while (e < slen && v->name[e] != '.')
+                e++;
+            snprintf(line, sizeof line, "$scope module %.*s $end\n", (int)(e - pos), v->name + pos);
+            put_str(d, line);
+            depth++;
+            pos = e;
+        }
+        memcpy(open_scope, v->name, slen);
+        open_scope[slen] = 0;
+        open_len = slen;
+        const char *leaf = dot ? dot + 1 : v->name;
+        const char *type = v->kind == VAR_BIT ? "wire" : v->kind == VAR_INT ? "reg" : "string";
+        unsigned w = v->kind == VAR_ENUM ? 1 : v->width;
+        snprintf(line, sizeof line, "$var %s %u %.*s %s $end\n", type, w, (int)v->idlen, v->id,
+                 leaf);
+        put_str(d, line);
+    }
+    for (; depth > 0; depth--)
+        put_str(d, "$upscope $end\n");
+    put_str(d, "$enddefinitions $end\n");
+    free(sorted);
+}
+
+/* Enters the window: header if needed, then every value at window_begin. */
+static void start_window(ks_vcd *d)
+{
+    if (!d->header_done)
+        write_header(d);
+    d->started = 1;
+    emit_time(d, d->begin);
+    put_str(d, "$dumpvars\n");
+    for (unsigned i = 0; i < d->n_vars; i++)
+        emit_value(d, d->vars[i]);
+    put_str(d, "$end\n");
+}
+
+void ks_vcd_set(ks_vcd_var *v, uint64_t value)
+{
+    if (!v)
+        return;
+    value &= v->mask;
+    if (value == v->value)
+        return;
+    ks_vcd *d = v->vcd;
+    ks_time now = *d->now;
+    if (now < d->begin || d->ended) {
+        v->value = value;
+        if (!d->header_done)
+            write_header(d); /* freezes the declarations */
+        return;
+    }
+    if (!d->started)
+        start_window(d);
+    if (now >= d->end) {
+        emit_time(d, d->end);
+        d->ended = 1;
+        v->value = value;
+        return;
+    }
+    emit_time(d, now);
+    v->value = value;
+    emit_value(d, v);
+}
+
+/* ---- declarations ---- */
+
+static int glob_match(const char *p, const char *pe, const char *s)
+{
+    while (p < pe) {
+        if (*p == '*') {
+            while (p < pe && *p == '*')
+                p++;
+            if (p == pe)
+                return 1;
+            for (; *s; s++)
+                if (glob_match(p, pe, s))
+                    return 1;
+            return 0;
+        }
+        if (!*s || (*p != '?' && *p != *s))
+            return 0;
+        p++;
+        s++;
+    }
+    return *s == 0;
+}
+
+static int filter_ok(const ks_vcd *d, const char *name)
+{
+    if (!d->n_pats)
+        return 1;
+    for (unsigned i = 0; i < d->n_pats; i++)
+        if (glob_match(d->pats[i], d->pats[i] + strlen(d->pats[i]), name))
+            return 1;
+    return 0;
+}
+
+static ks_vcd_var *declare(ks_vcd *d, const char *name, int kind, unsigned width, uint64_t init)
+{
+    if (!d || !name || !*name || d->header_done || !filter_ok(d, name))
+        return NULL;
+    for (const char *c = name; *c; c++)
+        if (*c == ' ' || *c == '\t' || *c == '\n')
+            return NULL; /* VCD identifiers cannot hold white space */
+    ks_vcd_var *v = ks__xcalloc(1, sizeof *v);
+    v->vcd = d;
+    v->kind = (uint8_t)kind;
+    v->width = width;
+    v->mask = width >= 64 ? UINT64_MAX : (((uint64_t)1 << width) - 1);
+    v->value = init & v->mask;
+    v->name = ks__xstrdup(name);
+    v->order = d->n_vars;
+    unsigned n = d->n_vars;
+    int len = 0;
+    do {
+        v->id[len++] = (char)('!' + n % 94);
+        n /= 94;
+    } while (n && len < 5);
+    v->idlen = (uint8_t)len;
+    KS_GROW(d->vars, d->n_vars, d->cap_vars);
+    d->vars[d->n_vars++] = v;
+    return v;
+}
+
+ks_vcd_var *ks_vcd_var_bit(ks_vcd *d, const char *name, int init)
+{
+    return declare(d, name, VAR_BIT, 1, init ? 1 : 0);
+}
+
+ks_vcd_var *ks_vcd_var_int(ks_vcd *d, const char *name, unsigned width, uint64_t init)
+{
+    if (width < 1 || width > 64)
+        return NULL;
+    return declare(d, name, VAR_INT, width, init);
+}
+
+ks_vcd_var *ks_vcd_var_enum(ks_vcd *d, const char *name, const char *const *names, unsigned n,
+                            unsigned init)
+{
+    if (!names || n == 0)
+        return NULL;
+    ks_vcd_var *v = declare(d, name, VAR_ENUM, 64, init);
+    if (v) {
+        v->names = names;
+        v->n_names = n;
+    }
+    return v;
+}
+
+void ks__vcd_trace_fifo(ks_vcd *d, ks_fifo *f)
+{
+    char name[600];
+    snprintf(name, sizeof name, "%s.occupancy", f->name);
+    f->vcd_occ = ks_vcd_var_int(d, name, 32, f->count);
+}
+
+void ks__vcd_trace_signal(ks_vcd *d, ks_signal *s)
+{
+    s->vcd_var = s->width == 1 ? ks_vcd_var_bit(d, s->name, (int)s->cur)
+                               : ks_vcd_var_int(d, s->name, s->width, s->cur);
+}
+
+/* ---- open / close ---- */
+
+static int parse_timescale(const char *s, ks_time *ps)
+{
+    if (!s || !*s)
+        s = "1ps";
+    char *end;
+    long n = strtol(s, &end, 10);
+    if (n != 1 && n != 10 && n != 100)
+        return -1;
+    while (*end == ' ')
+        end++;
+    ks_time unit;
+    if (!strcmp(end, "ps"))
+        unit = 1;
+    else if (!strcmp(end, "ns"))
+        unit = 1000;
+    else if (!strcmp(end, "us"))
+        unit = 1000000;
+    else if (!strcmp(end, "ms"))
+        unit = 1000000000;
+    else if (!strcmp(end, "s"))
+        unit = 1000000000000;
+    else
+        return -1;
+    *ps = n * unit;
+    return 0;
+}
+
+ks_vcd *ks_vcd_open(ks_sim *sim, const char *path, const char *timescale, ks_time window_begin,
+                    ks_time window_end, const char *filter)
+{
+    ks_time ts;
+    if (!path || !*path) {
+        ks__set_error(sim, "VCD: no output path given");
+        return NULL;
+    }
+    if (sim->vcd) {
+        ks__set_error(sim, "VCD %s: a writer is already open on this simulation", path);
+        return NULL;
+    }
+    if (parse_timescale(timescale, &ts)) {
+        ks__set_error(sim, "VCD %s: timescale '%s' invalid (allowed: 1|10|100 followed by s, ms, us, ns or ps)",
+                      path, timescale);
+        return NULL;
+    }
+    if (window_begin < 0 || window_end <= window_begin) {
+        ks__set_error(sim, "VCD %s: time window [%lld, %lld) ps is empty or negative", path,
+                      (long long)window_begin, (long long)window_end);
+        return NULL;
+    }
+    init_tables();
+    ks_vcd *d = ks__xcalloc(1, sizeof *d);
+    d->sim = sim;
+    d->now = &sim->now;
+    d->path = ks__xstrdup(path);
+    d->direct = strncmp(path, "/dev/", 5) == 0;
+    size_t pl = strlen(path);
+    d->tmp_path = ks__xmalloc(pl + 5);
+    memcpy(d->tmp_path, path, pl);
+    memcpy(d->tmp_path + pl, ".tmp", 5);
+    d->f = fopen(d->direct ? path : d->tmp_path, "wb");
+    if (!d->f) {
+        ks__set_error(sim, "VCD %s: cannot create file", d->direct ? path : d->tmp_path);
+        free(d->path);
+        free(d->tmp_path);
+        free(d);
+        return NULL;
+    }
+    d->ts_ps = ts;
+    snprintf(d->ts_str, sizeof d->ts_str, "%s", timescale && *timescale ? timescale : "1ps");
+    d->begin = window_begin;
+    d->end = window_end;
+    d->last_vt = -1;
+    d->buf = ks__xmalloc(VCD_BUF);
+    if (filter && *filter) {
+        const char *p = filter;
+        while (*p) {
+            const char *e = strchr(p, ',');
+            size_t n = e ? (size_t)(e - p) : strlen(p);
+            while (n && *p == ' ')
+                p++, n--;
+            while (n && p[n - 1] == ' ')
+                n--;
+            if (n) {
+                d->pats = ks__xrealloc(d->pats, (d->n_pats + 1) * sizeof *d->pats);
+                char *s = ks__xmalloc(n + 1);
+                memcpy(s, p, n);
+                s[n] = 0;
+                d->pats[d->n_pats++] = s;
+            }
+            if (!e)
+                break;
+            p = e + 1;
+        }
+    }
+    sim->vcd = d;
+    for (size_t i = 0; i < sim->n_fifos; i++)
+        ks__vcd_trace_fifo(d, sim->fifos[i]);
+    for (size_t i = 0; i < sim->n_signals; i++)
+        ks__vcd_trace_signal(d, sim->signals[i]);
+    return d;
+}
+
+void ks__vcd_finish(ks_vcd *d)
+{
+    if (!d->header_done)
+        write_header(d);
+    ks_time now = *d->now;
+    if (!d->started && now >= d->begin)
+        start_window(d);
+    if (d->started && !d->ended)
+        emit_time(d, now < d->end ? now : d->end);
+    flush_buf(d);
+}
+
+int ks_vcd_close(ks_vcd *d)
+{
+    if (!d)
+        return 0;
+    ks_sim *sim = d->sim;
+    ks__vcd_finish(d);
+    int rc = 0;
+    if (fclose(d->f) != 0)
+        d->io_error = 1;
+    if (d->io_error) {
+        ks__set_error(sim, "VCD %s: write error (disk full?)", d->direct ? d->path : d->tmp_path);
+        if (!d->direct)
+            remove(d->tmp_path);
+        rc = -1;
+    } else if (!d->direct && rename(d->tmp_path, d->path) != 0) {
+        ks__set_error(sim, "VCD %s: cannot rename %s into place", d->path, d->tmp_path);
+        remove(d->tmp_path);
+        rc = -1;
+    }
+    for (size_t i = 0; i < sim->n_fifos; i++)
+        sim->fifos[i]->vcd_occ = NULL;
+    for (size_t i = 0; i < sim->n_signals; i++)
+        sim->signals[i]->vcd_var = NULL;
+    sim->vcd = NULL;
+    for (unsigned i = 0; i < d->n_vars; i++) {
+        free(d->vars[i]->name);
+        free(d->vars[i]);
+    }
+    for (unsigned i = 0; i < d->n_pats; i++)
+        free(d->pats[i]);
+    free(d->pats);
+    free(d->vars);
+    free(d->buf);
+    free(d->path);
+    free(d->tmp_path);
+    free(d);
+    return rc;
+}
+
+ks_vcd *ks_sim_vcd(const ks_sim *sim) { return sim->vcd; }
+uint64_t ks_vcd_bytes(const ks_vcd *d) { return d->flushed + d->pos; }
+unsigned ks_vcd_var_count(const ks_vcd *d) { return d->n_vars; }

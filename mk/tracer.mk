@@ -15,3 +15,10 @@ $(BUILD)/bench/tracer_loader: $(BUILD)/obj/bench/tracer_loader.cpp.o $(BUILD)/li
 
 # Libraries the tracer uses: Embree 3 (reference), OpenImageIO (images), zlib (.gz scenes).
 EXTRA_LDLIBS += -lembree3 $(shell pkg-config --libs OpenImageIO 2>/dev/null) -lz
+
+# --- tracer BVH/traversal (docs/tracer-bvh.md) ---
+# Build and traversal speed against Embree (bench/tracer.sh).
+BENCH_BINS += $(BUILD)/bench/tracer_trace
+$(BUILD)/bench/tracer_trace: $(BUILD)/obj/bench/tracer_trace.c.o $(BUILD)/lib/libtracer.a
+	@mkdir -p $(@D)
+	$(CXX) $(LDFLAGS) $< $(BUILD)/lib/libtracer.a $(EXTRA_LDLIBS) $(LDLIBS) -o $@

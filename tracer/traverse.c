@@ -1,0 +1,142 @@
+/* traverse.c — the reference traversal of traverse.h, on the image's bytes.
+ * Kept tight for speed: the ray preparation is done once, the stack is a
+ * local array (no allocation), slots are decoded straight from the bytes, and
+ * events/counts cost one predictable branch each when unused. */
+#include "tracer/traverse.h"
+
+#include <string.h>
+
+typedef struct stack_entry {
+    uint32_t ref, meta;
+    float tnear;
+} stack_entry;
+
+void rt_trv_params_default(rt_trv_params *p, int width)
+{
+    p->stack_depth = RT_STACK_DEPTH_DEFAULT;
+    p->distance_cull = width > 2;
+}
+
+static inline void emit(rt_trv_event_fn fn, void *user, rt_trv_event_kind kind, uint32_t a, uint32_t b, float t)
+{
+    const rt_trv_event ev = {(uint8_t)kind, a, b, t};
+    fn(user, &ev);
+}
+
+bool rt_trace_ray(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray *ray, rt_hit *hit,
+                  rt_trv_counts *counts, rt_trv_event_fn fn, void *user)
+{
+    stack_entry stack[4096];
+    int depth = p->stack_depth;
+    if (depth > 4096)
+        depth = 4096;   /* the documented range is 1..4096 */
+    if (depth < 1)
+        depth = 1;
+    const int width = img->width;
+    const bool cull = p->distance_cull;
+    const uint8_t *nodes = img->bytes + img->node_base;
+    const uint8_t *tris = img->bytes + img->tri_base;
+    const uint32_t nbytes = img->node_bytes;
+
+    const float org[3] = {ray->org.x, ray->org.y, ray->org.z};
+    const float dir[3] = {ray->dir.x, ray->dir.y, ray->dir.z};
+    rt_ray_prep rp;
+    rt_ray_prepare(org, dir, &rp);
+    const float tmin = ray->tmin;
+    float closest = ray->tmax;
+    uint32_t prim = RT_NO_HIT;
+    float hu = 0.0f, hv = 0.0f;
+    rt_trv_counts c = {0};
+    int sp = 0;
+    bool ok = true;
+
+    uint32_t ref = 0, meta = 0;   /* the current target: root, an inner node */
+    for (;;) {
+        if (meta == 0) {
+            /* VISIT */
+            c.visits++;
+            if (fn)
+                emit(fn, user, RT_EV_VISIT, ref, 0, 0.0f);
+            const uint8_t *node = nodes + (uint64_t)ref * nbytes;
+            stack_entry hits[RT_WIDTH_MAX];
+            int nh = 0;
+            for (int s = 0; s < width; s++) {
+                rt_child ch;
+                rt_node_child(node, s, &ch);
+                if (ch.meta & RT_META_EMPTY)
+                    break;   /* used slots come first */
+                c.box_tests++;
+                float tn;
+                if (!rt_slab_test(&rp, ch.lo, ch.hi, tmin, closest, &tn))
+                    continue;
+                /* insertion keeps slot order among equal tnear: stable sort */
+                int i = nh++;
+                while (i > 0 && tn < hits[i - 1].tnear) {
+                    hits[i] = hits[i - 1];
+                    i--;
+                }
+                hits[i] = (stack_entry){ch.ref, ch.meta & RT_META_COUNT_MASK, tn};
+            }
+            if (nh > 0) {
+                for (int i = nh - 1; i >= 1; i--) {
+                    if (sp == depth) {
+                        ok = false;
+                        goto out;
+                    }
+                    stack[sp++] = hits[i];
+                    c.pushes++;
+                    if (fn)
+                        emit(fn, user, RT_EV_PUSH, hits[i].ref, hits[i].meta, hits[i].tnear);
+                }
+                if ((uint32_t)sp > c.max_stack)
+                    c.max_stack = (uint32_t)sp;
+                ref = hits[0].ref, meta = hits[0].meta;
+                continue;
+            }
+        } else {
+            /* LEAF */
+            c.leaves++;
+            if (fn)
+                emit(fn, user, RT_EV_LEAF, ref, meta, 0.0f);
+            for (uint32_t i = 0; i < meta; i++) {
+                rt_tri48 tri;
+                rt_tri_decode(tris + (uint64_t)(ref + i) * RT_TRI_BYTES, &tri);
+                c.tri_tests++;
+                float t, u, v;
+                const bool h = rt_wald_test(&tri, org, dir, tmin, closest, &t, &u, &v);
+                if (h)
+                    closest = t, prim = tri.prim, hu = u, hv = v;
+                if (fn)
+                    emit(fn, user, RT_EV_TRI, ref + i, h ? 1u : 0u, closest);
+            }
+        }
+        /* POP */
+        for (;;) {
+            if (sp == 0)
+                goto done;
+            const stack_entry e = stack[--sp];
+            if (cull && e.tnear > closest) {
+                c.culls++;
+                if (fn)
+                    emit(fn, user, RT_EV_CULL, e.ref, e.meta, e.tnear);
+                continue;
+            }
+            c.pops++;
+            if (fn)
+                emit(fn, user, RT_EV_POP, e.ref, e.meta, e.tnear);
+            ref = e.ref, meta = e.meta;
+            break;
+        }
+    }
+done:
+    if (fn)
+        emit(fn, user, RT_EV_DONE, prim, 0, closest);
+out:
+    hit->t = closest;
+    hit->u = hu;
+    hit->v = hv;
+    hit->prim = prim;
+    if (counts)
+        *counts = c;
+    return ok;
+}

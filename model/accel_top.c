@@ -187,6 +187,7 @@ void accel_top_destroy(accel_top *t)
         for (uint32_t i = 0; i < t->p.trv_count; i++)
             trv_free(&t->trv[i]);
     sched_free(&t->sched);
+    ist_free(&t->ist);
     if (t->sim)
         ks_sim_destroy(t->sim);
     if (t->stats)

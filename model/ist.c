@@ -34,7 +34,7 @@ static void ist_describe(void *user, char *buf, unsigned cap)
 {
     ist_unit *u = user;
     int n = snprintf(buf, cap, "%u rays held; issuing ray %lld; pipe %u/%u, loop %u/%u; out", (unsigned)u->rays_in_unit,
-                     (long long)u->cur, ks_fifo_occupancy(u->pipe), ks_fifo_capacity(u->pipe),
+                     (long long)u->cur, u->pipe.count, u->pipe.cap,
                      ks_fifo_occupancy(u->loop), ks_fifo_capacity(u->loop));
     for (uint32_t i = 0; i < u->ntrv && n > 0 && (unsigned)n < cap; i++)
         n += snprintf(buf + n, cap - (unsigned)n, " %u/%u", ks_fifo_occupancy(u->out[i]), ks_fifo_capacity(u->out[i]));
@@ -54,18 +54,18 @@ bool ist_init(ist_unit *u, const char *name, const ist_params *p, const accel_im
     u->clk = clk;
     u->cur = -1;
     char nm[128];
-    snprintf(nm, sizeof nm, "%s.pipe", name);
-    u->pipe = ks_fifo_create(sim, nm, sizeof(trv_msg), pipe_capacity ? pipe_capacity : p->latency + 1, p->latency,
-                             clk);
+    if (!pipe_ring_init(&u->pipe, pipe_capacity ? pipe_capacity : p->latency + 1, p->latency)) {
+        snprintf(err, errlen, "%s: out of memory", name);
+        return false;
+    }
     snprintf(nm, sizeof nm, "%s.loop", name);
     u->loop = ks_fifo_create(sim, nm, sizeof(trv_msg), loop_capacity ? loop_capacity : 32, 1, clk);
-    if (!u->pipe || !u->loop) {
+    if (!u->loop) {
         snprintf(err, errlen, "%s: %s", name, ks_sim_error(sim));
         return false;
     }
     u->proc = ks_clocked_create(clk, name, ist_step, u);
     ks_clocked_set_describe(u->proc, ist_busy, ist_describe);
-    ks_clocked_wake_on(u->proc, ks_fifo_ev_written(u->pipe));
     ks_clocked_wake_on(u->proc, ks_fifo_ev_written(u->loop));
     return true;
 }
@@ -127,6 +127,8 @@ void ist_register(ist_unit *u, const char *name, ks_stats *st, ks_vcd *vcd)
         u->v_tri = ks_vcd_var_int(vcd, nm, 32, 0xFFFFFFFFu);
         snprintf(nm, sizeof nm, "%s.exit_ray", name);
         u->v_exit_ray = ks_vcd_var_int(vcd, nm, 32, 0xFFFFFFFFu);
+        snprintf(nm, sizeof nm, "%s.pipe.occupancy", name);
+        u->pipe.v_occ = ks_vcd_var_int(vcd, nm, 16, 0);
     }
 }
 
@@ -143,16 +145,15 @@ static int ist_step(void *user, uint64_t cycle)
     ist_unit *u = user;
     int progress = 0;
 
-    const trv_msg *head = ks_fifo_peek(u->pipe);
+    const pipe_item *head = pipe_ring_ready(&u->pipe, cycle);
     if (head) {
         const accel_ray *r = &u->rays[head->ray];
         ks_fifo *out = head->result ? u->loop : u->out[r->trv];
         if (ks_fifo_can_write(out)) {
-            trv_msg m;
-            ks_fifo_read(u->pipe, &m);
-            if (!m.result)
+            pipe_item it = pipe_ring_pop(&u->pipe);
+            if (!it.result)
                 u->rays_in_unit--;
-            m.result = 0;
+            trv_msg m = {it.ray, 0};
             ks_fifo_write(out, &m);
             if (u->v_exit_ray)
                 ks_vcd_set(u->v_exit_ray, m.ray);
@@ -189,7 +190,7 @@ static int ist_step(void *user, uint64_t cycle)
     } else if (u->cur >= 0) {
         accel_ray *r = &u->rays[u->cur];
         /* a test that ends the ray's stay (last triangle or miss) needs a pipe slot */
-        if (ks_fifo_can_write(u->pipe)) {
+        if (!pipe_ring_full(&u->pipe)) {
             uint32_t tri = r->tri_next;
             ist_result res = ist_core_test(&u->core, r, cycle);
             u->busy_cycles++;
@@ -201,8 +202,7 @@ static int ist_step(void *user, uint64_t cycle)
             if (res != IST_LOOP_MISS && res != IST_LOOP_BLOCKED && u->core.port_cycles > 1)
                 u->busy_until = cycle + u->core.port_cycles;   /* both lines in one bank */
             if (res != IST_MORE) {
-                trv_msg m = {(uint32_t)u->cur, res == IST_LAST ? 0u : 1u};
-                ks_fifo_write(u->pipe, &m);
+                pipe_ring_push(&u->pipe, (uint32_t)u->cur, res == IST_LAST ? 0u : 1u, cycle);
                 u->cur = -1;
             }
             progress++;
@@ -214,7 +214,7 @@ static int ist_step(void *user, uint64_t cycle)
         ks_vcd_set(u->v_tri, 0xFFFFFFFFu);
     }
     if (!progress) {
-        uint64_t next = head_cycle(u->pipe, u->clk), c;
+        uint64_t next = pipe_ring_next_exit(&u->pipe), c;
         if ((c = head_cycle(u->loop, u->clk)) < next)
             next = c;
         for (uint32_t i = 0; i < u->ntrv; i++)
@@ -225,3 +225,5 @@ static int ist_step(void *user, uint64_t cycle)
     }
     return progress;
 }
+
+void ist_free(ist_unit *u) { pipe_ring_free(&u->pipe); }

@@ -19,6 +19,7 @@
 #include "kernel/stats.h"
 #include "kernel/vcd.h"
 #include "model/ist_core.h"
+#include "model/pipe_ring.h"
 #include "model/trv.h"
 
 #define IST_MAX_TRV 64
@@ -36,7 +37,8 @@ typedef struct ist_unit {
     ks_clock *clk;
     uint32_t ntrv, rr;                 /* arbiter: next TRV input to look at first */
     ks_fifo *in[IST_MAX_TRV], *out[IST_MAX_TRV];
-    ks_fifo *pipe, *loop;
+    ks_fifo *loop;
+    pipe_ring pipe;                    /* test pipeline after issue */
     int64_t cur;                       /* ray holding the issue stage, -1 none */
     uint64_t busy_until, bank_stall_cycles;
     uint64_t busy_cycles, flops, rays_in_unit, exit_stall_cycles, issue_stall_cycles;
@@ -45,6 +47,7 @@ typedef struct ist_unit {
 
 extern const ks_module_desc ist_module_desc;
 
+void ist_free(ist_unit *u);
 bool ist_init(ist_unit *u, const char *name, const ist_params *p, const accel_image *img, accel_ray *rays,
               ks_sim *sim, ks_clock *clk, uint32_t loop_capacity, uint32_t pipe_capacity, char *err, unsigned errlen);
 /* in[i]: leaf work from TRV i; out[i]: rays back to TRV i. */

@@ -62,12 +62,12 @@ static void trv_describe(void *user, char *buf, unsigned cap)
     trv_unit *t = user;
     snprintf(buf, cap,
              "%u rays held; pipe %u/%u, loop %u/%u; in_new %u, in_ist %u waiting; out_ist %u/%u, out_done %u/%u%s",
-             (unsigned)t->rays_in_unit, ks_fifo_occupancy(t->pipe), ks_fifo_capacity(t->pipe),
+             (unsigned)t->rays_in_unit, t->pipe.count, t->pipe.cap,
              ks_fifo_occupancy(t->loop), ks_fifo_capacity(t->loop), t->in_new ? ks_fifo_occupancy(t->in_new) : 0,
              t->in_ist ? ks_fifo_occupancy(t->in_ist) : 0, t->out_ist ? ks_fifo_occupancy(t->out_ist) : 0,
              t->out_ist ? ks_fifo_capacity(t->out_ist) : 0, t->out_done ? ks_fifo_occupancy(t->out_done) : 0,
              t->out_done ? ks_fifo_capacity(t->out_done) : 0,
-             (t->pipe && ks_fifo_can_read(t->pipe)) ? " (exit stage waits for a full output FIFO)" : "");
+             pipe_ring_ready(&t->pipe, ks_clock_cycle(t->clk)) ? " (exit stage waits for a full output FIFO)" : "");
 }
 
 bool trv_init(trv_unit *t, uint32_t id, const char *name, const trv_params *p, const accel_image *img,
@@ -82,19 +82,21 @@ bool trv_init(trv_unit *t, uint32_t id, const char *name, const trv_params *p, c
     t->clk = clk;
     t->depth = trv_pipeline_depth(p);
     char nm[128];
-    snprintf(nm, sizeof nm, "%s.pipe", name);
-    /* one ray per stage after issue: capacity depth, ready depth-1 cycles later */
-    t->pipe = ks_fifo_create(sim, nm, sizeof(trv_msg), t->depth, t->depth - 1, clk);
+    /* one ray per stage after issue: capacity depth, exit depth-1 cycles later */
+    if (!pipe_ring_init(&t->pipe, t->depth, t->depth - 1)) {
+        snprintf(err, errlen, "%s: out of memory", name);
+        trv_core_free(&t->core);
+        return false;
+    }
     snprintf(nm, sizeof nm, "%s.loop", name);
     t->loop = ks_fifo_create(sim, nm, sizeof(trv_msg), loop_capacity ? loop_capacity : p->core.slots, 1, clk);
-    if (!t->pipe || !t->loop) {
+    if (!t->loop) {
         snprintf(err, errlen, "%s: %s", name, ks_sim_error(sim));
         trv_core_free(&t->core);
         return false;
     }
     t->proc = ks_clocked_create(clk, name, trv_step, t);
     ks_clocked_set_describe(t->proc, trv_busy, trv_describe);
-    ks_clocked_wake_on(t->proc, ks_fifo_ev_written(t->pipe));
     ks_clocked_wake_on(t->proc, ks_fifo_ev_written(t->loop));
     return true;
 }
@@ -172,10 +174,16 @@ void trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd)
         t->v_exit_ray = ks_vcd_var_int(vcd, nm, 32, 0xFFFFFFFFu);
         snprintf(nm, sizeof nm, "%s.rays_held", name);
         t->v_rays = ks_vcd_var_int(vcd, nm, 16, 0);
+        snprintf(nm, sizeof nm, "%s.pipe.occupancy", name);
+        t->pipe.v_occ = ks_vcd_var_int(vcd, nm, 16, 0);
     }
 }
 
-void trv_free(trv_unit *t) { trv_core_free(&t->core); }
+void trv_free(trv_unit *t)
+{
+    trv_core_free(&t->core);
+    pipe_ring_free(&t->pipe);
+}
 
 /* Earliest future cycle at which a FIFO head becomes readable (UINT64_MAX if none). */
 static inline uint64_t head_cycle(const ks_fifo *f, ks_clock *clk)
@@ -192,7 +200,7 @@ static int trv_step(void *user, uint64_t cycle)
     int state = TRV_ST_IDLE;
 
     /* exit stage: one ray per cycle leaves the pipeline */
-    const trv_msg *head = ks_fifo_peek(t->pipe);
+    const pipe_item *head = pipe_ring_ready(&t->pipe, cycle);
     if (head) {
         ks_fifo *out;
         switch (head->result) {
@@ -202,11 +210,10 @@ static int trv_step(void *user, uint64_t cycle)
         default: out = t->loop; break;
         }
         if (ks_fifo_can_write(out)) {
-            trv_msg m;
-            ks_fifo_read(t->pipe, &m);
+            pipe_item it = pipe_ring_pop(&t->pipe);
             if (out != t->loop)
                 t->rays_in_unit--;
-            m.result = 0;
+            trv_msg m = {it.ray, 0};
             ks_fifo_write(out, &m);
             if (t->v_exit_ray)
                 ks_vcd_set(t->v_exit_ray, m.ray);
@@ -224,7 +231,7 @@ static int trv_step(void *user, uint64_t cycle)
         state = TRV_ST_STALL;
         t->stack_stall_cycles++;
         progress++;   /* the stack stage is working (the exit stage keeps draining) */
-    } else if (ks_fifo_can_write(t->pipe)) {
+    } else if (!pipe_ring_full(&t->pipe)) {
         ks_fifo *src = NULL;
         uint64_t *ctr = NULL;
         if (ks_fifo_can_read(t->in_ist))
@@ -247,7 +254,7 @@ static int trv_step(void *user, uint64_t cycle)
                 t->flops += (uint64_t)t->p.box_flops * (uint64_t)t->p.core.width;
             if (m.result == TRV_OVERFLOW)
                 t->failed = true;
-            ks_fifo_write(t->pipe, &m);
+            pipe_ring_push(&t->pipe, m.ray, m.result, cycle);
             t->busy_cycles++;
             if (m.result != TRV_LOOP_MISS && m.result != TRV_LOOP_BLOCKED && t->core.fetch_cycles > stack_cycles)
                 stack_cycles = t->core.fetch_cycles;   /* a node spanning two lines of one L1 bank */
@@ -268,7 +275,7 @@ static int trv_step(void *user, uint64_t cycle)
     if (!progress) {
         /* sleep until the next input or pipe head becomes readable (events
          * cover new writes and freed outputs) */
-        uint64_t next = head_cycle(t->pipe, t->clk);
+        uint64_t next = pipe_ring_next_exit(&t->pipe);
         uint64_t c;
         if ((c = head_cycle(t->loop, t->clk)) < next)
             next = c;

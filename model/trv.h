@@ -5,7 +5,7 @@
  * tests -> sorting network (one stage per layer: 1 for BVH2's compare-swap, 3
  * for MBVH4) -> stack -> next state. The pass is computed at issue (the unit
  * is execution-driven on the node bytes) and the ray travels the remaining
- * stages in the `pipe` FIFO (latency depth - 1). At the exit stage the ray
+ * stages in the pipe (pipe_ring.h, exit depth - 1 cycles later). At the exit stage the ray
  * goes to: the loop FIFO (next node, or "looping for next chance" after a
  * node L1 miss), the IST (leaf), or the scheduler (done). A stack operation
  * needing k > 1 bank cycles stalls issue for k - 1 cycles.
@@ -24,6 +24,7 @@
 #include "kernel/module_desc.h"
 #include "kernel/stats.h"
 #include "kernel/vcd.h"
+#include "model/pipe_ring.h"
 #include "model/trv_core.h"
 
 /* What travels on ray FIFOs: the index of the ray's record (accel_ray table;
@@ -51,7 +52,8 @@ typedef struct trv_unit {
     accel_ray *rays;         /* the top level's ray table */
     ks_clocked *proc;
     ks_clock *clk;
-    ks_fifo *in_new, *in_ist, *out_ist, *out_done, *pipe, *loop;
+    ks_fifo *in_new, *in_ist, *out_ist, *out_done, *loop;
+    pipe_ring pipe;          /* stages after issue */
     uint64_t busy_until;     /* issue stalled by a multi-cycle stack operation */
     /* statistics */
     uint64_t busy_cycles, issue_new, issue_ist, issue_loop, exit_stall_cycles, stack_stall_cycles;
@@ -66,8 +68,8 @@ extern const ks_module_desc trv_module_desc;
 /* Pipeline depth for params: fetch + box + sort layers + stack + next. */
 uint32_t trv_pipeline_depth(const trv_params *p);
 
-/* Creates the unit's process on clk and its internal pipe/loop FIFOs (named
- * "<name>.pipe", "<name>.loop"); the port FIFOs must be set before the run
+/* Creates the unit's process on clk, its pipeline and its loop FIFO (named
+ * "<name>.loop"); the port FIFOs must be set before the run
  * (trv_bind). False with a message on bad parameters. */
 bool trv_init(trv_unit *t, uint32_t id, const char *name, const trv_params *p, const accel_image *img,
               accel_ray *rays, ks_sim *sim, ks_clock *clk, uint32_t loop_capacity, char *err, unsigned errlen);

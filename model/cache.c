@@ -53,6 +53,8 @@ struct cache {
     uint32_t *bank_used;        /* line reads of each bank in bank_cycle */
     uint32_t last_cycles;
     cache_stats st;
+    cache_miss_hook hook;
+    void *hook_user;
 };
 
 static uint32_t log2u(uint64_t v)
@@ -298,6 +300,8 @@ static cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_
             c->mshr_busy++;
             c->missq[(c->missq_head + c->missq_n++) % (int)c->p.mshrs] = k;
             c->st.miss_lines++;
+            if (c->hook)
+                c->hook(c->hook_user);
         }
         if (req)
             c->m[k].wait[c->m[k].nwait++] = wi;
@@ -395,6 +399,13 @@ int cache_mshrs_busy(const cache *c) { return c->mshr_busy; }
 int cache_misses_queued(const cache *c) { return c->missq_n; }
 int cache_ready_count(const cache *c) { return c->ready_n; }
 void cache_get_stats(const cache *c, cache_stats *out) { *out = c->st; }
+const cache_stats *cache_stats_live(const cache *c) { return &c->st; }
+
+void cache_set_miss_hook(cache *c, cache_miss_hook fn, void *user)
+{
+    c->hook = fn;
+    c->hook_user = user;
+}
 
 void cache_describe(const cache *c, int64_t now, char *buf, size_t len)
 {

@@ -102,6 +102,12 @@ int cache_fill(cache *c, const mem_resp *resp, int64_t now);
 /* Waiting requests whose lines are all present now, in completion order. */
 bool cache_pop_ready(cache *c, mem_req *out);
 
+/* Called whenever an access allocates an MSHR (a downstream request was
+ * queued): the kernel module wakes its process with it, so requesters may
+ * probe the core directly. One hook per cache; NULL removes it. */
+typedef void (*cache_miss_hook)(void *user);
+void cache_set_miss_hook(cache *c, cache_miss_hook fn, void *user);
+
 /* Introspection (tests, deadlock reports, statistics). */
 bool cache_contains(const cache *c, uint64_t addr);        /* no side effects */
 bool cache_line_pending(const cache *c, uint64_t addr);    /* an MSHR waits for it */
@@ -109,6 +115,8 @@ int cache_mshrs_busy(const cache *c);
 int cache_misses_queued(const cache *c);                   /* not yet popped */
 int cache_ready_count(const cache *c);
 void cache_get_stats(const cache *c, cache_stats *out);
+/* The live counters (for registering them in a statistics registry). */
+const cache_stats *cache_stats_live(const cache *c);
 /* One line: "mshrs 3/8 busy (2 unsent), ready 1, oldest miss 0x1c0 since 123". */
 void cache_describe(const cache *c, int64_t now, char *buf, size_t len);
 

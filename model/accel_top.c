@@ -10,6 +10,7 @@
 #include "kernel/fifo.h"
 #include "kernel/vcd.h"
 #include "model/ist.h"
+#include "model/memsys.h"
 #include "model/trv.h"
 
 #define SLICE_CYCLES 65536u
@@ -26,6 +27,7 @@ struct accel_top {
     sched_unit sched;
     trv_unit *trv;
     ist_unit ist;
+    memsys *mem;
     ks_fifo **f_new, **f_leaf, **f_ret, **f_done;
     char (*names)[32];
     uint64_t cycles, rays_done;
@@ -43,6 +45,16 @@ static int make_fifo(accel_top *t, ks_fifo **out, const char *name, uint32_t cap
         return -1;
     }
     return 0;
+}
+
+/* The units' synchronous cache probe (model/cache.h protocol). */
+static cache_result probe_cache(void *ctx, uint64_t addr, uint32_t bytes, uint64_t now, uint32_t *cycles)
+{
+    cache *c = ctx;
+    cache_result r = cache_access(c, addr, bytes, (int64_t)now);
+    if (r == CACHE_HIT)
+        *cycles = cache_last_access_cycles(c);
+    return r;
 }
 
 static double util_formula(const ks_stats *reg, void *user)
@@ -111,6 +123,15 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
         accel_top_destroy(t);
         return NULL;
     }
+    /* the memory side first: the TRV fetch stages and the IST's front take
+     * the L1 and primitive cache hit latencies */
+    t->mem = memsys_build(t->sim, t->clk, cfg, (int)ntrv, t->stats, err, errlen);
+    if (!t->mem) {
+        accel_top_destroy(t);
+        return NULL;
+    }
+    t->p.trv.stages_fetch = memsys_node_l1_latency(t->mem);
+    t->p.ist.latency += memsys_prim_latency(t->mem);
     /* units, in the order they are stepped each cycle: consumers of a FIFO
      * see its items at the ready time whatever the order (latency >= 1) */
     if (!sched_init(&t->sched, "sched", &t->p.sched, src, t->rays, ntrv, slots, t->clk, err, (unsigned)errlen)) {
@@ -153,7 +174,12 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     if (opts->events)
         ist_set_events(&t->ist, opts->events, opts->events_user);
 
-    /* memory side: ideal (always hit) until the memory hierarchy is wired */
+    for (uint32_t i = 0; i < ntrv; i++) {
+        trv_set_probe(&t->trv[i], probe_cache, memsys_node_l1(t->mem, (int)i));
+        ks_clocked_wake_on(t->trv[i].proc, memsys_node_l1_filled(t->mem, (int)i));
+    }
+    ist_set_probe(&t->ist, probe_cache, memsys_prim(t->mem));
+    ks_clocked_wake_on(t->ist.proc, memsys_prim_filled(t->mem));
 
     /* statistics: the frame's figures first, then per unit */
     ks_stat_counter_ref(t->stats, "cycles", "cycles", "accelerator cycles of the frame (to the last ray's completion)",
@@ -186,6 +212,8 @@ void accel_top_destroy(accel_top *t)
     if (t->trv)
         for (uint32_t i = 0; i < t->p.trv_count; i++)
             trv_free(&t->trv[i]);
+    if (t->mem)
+        memsys_destroy(t->mem);
     sched_free(&t->sched);
     ist_free(&t->ist);
     if (t->sim)
@@ -211,7 +239,7 @@ static void finish_stats(accel_top *t)
     t->stat_cycles = t->cycles;
     t->stat_rays = t->rays_done;
     t->stat_mrps = t->mrps;
-    t->stat_dram_bytes = 0;
+    t->stat_dram_bytes = t->mem ? memsys_memory_bytes(t->mem) : 0;
     t->stat_dram_gbs = t->seconds > 0 ? (double)t->stat_dram_bytes / t->seconds / 1e9 : 0.0;
     t->stat_in_flight = sched_mean_in_flight(&t->sched, t->cycles);
 }
@@ -291,7 +319,21 @@ void accel_top_print_summary(accel_top *t, FILE *out)
     for (uint32_t i = 0; i < t->p.trv_count; i++)
         fprintf(out, " trv%u %.1f%%", i, t->cycles ? 100.0 * (double)t->trv[i].busy_cycles / (double)t->cycles : 0.0);
     fprintf(out, " ist %.1f%%\n", t->cycles ? 100.0 * (double)t->ist.busy_cycles / (double)t->cycles : 0.0);
-    fprintf(out, "DRAM        %.2f MB, %.2f GB/s\n", (double)t->stat_dram_bytes / 1e6, t->stat_dram_gbs);
+    cache_stats cs, sum = {0};
+    for (uint32_t i = 0; i < t->p.trv_count; i++) {
+        cache_get_stats(memsys_node_l1(t->mem, (int)i), &cs);
+        sum.accesses += cs.accesses, sum.hits += cs.hits;
+    }
+    fprintf(out, "caches      node L1 %.2f%% hits (%llu accesses)", sum.accesses ? 100.0 * (double)sum.hits / (double)sum.accesses : 0.0,
+            (unsigned long long)sum.accesses);
+    cache_get_stats(memsys_node_l2(t->mem), &cs);
+    fprintf(out, ", node L2 %.2f%% (%llu)", cs.accesses ? 100.0 * (double)cs.hits / (double)cs.accesses : 0.0,
+            (unsigned long long)cs.accesses);
+    cache_get_stats(memsys_prim(t->mem), &cs);
+    fprintf(out, ", prim %.2f%% (%llu)\n", cs.accesses ? 100.0 * (double)cs.hits / (double)cs.accesses : 0.0,
+            (unsigned long long)cs.accesses);
+    fprintf(out, "DRAM        %.2f MB, %.2f GB/s (%s memory)\n", (double)t->stat_dram_bytes / 1e6, t->stat_dram_gbs,
+            memsys_memory_model(t->mem) == MEMSYS_LPDDR3 ? "LPDDR3" : "fixed-latency");
 }
 
 int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen)
@@ -315,6 +357,23 @@ int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen)
                 want = s;
         }
         if (any && rtcfg_set_int(cfg, accel_fifo_key(k), want, err, errlen))
+            return -1;
+    }
+    /* memory side: the largest suggestion among the FIFOs of each key */
+    int n = memsys_fifo_count(t->mem);
+    for (int i = 0; i < n; i++) {
+        const char *key = NULL;
+        ks_fifo *f = memsys_fifo_at(t->mem, i, &key);
+        if (!key)
+            continue;
+        uint32_t want = ks_fifo_suggested_capacity(f);
+        for (int j = 0; j < n; j++) {
+            const char *kj = NULL;
+            ks_fifo *g = memsys_fifo_at(t->mem, j, &kj);
+            if (kj && !strcmp(kj, key) && ks_fifo_suggested_capacity(g) > want)
+                want = ks_fifo_suggested_capacity(g);
+        }
+        if (rtcfg_set_int(cfg, key, want, err, errlen))
             return -1;
     }
     return 0;

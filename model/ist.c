@@ -5,7 +5,8 @@
 #include <string.h>
 
 static const ks_desc_item ist_items[] = {
-    {KS_DESC_PARAM, "ist.latency", "int", "16", "1..256", "pipeline stages of one Wald test"},
+    {KS_DESC_PARAM, "ist.latency", "int", "16", "1..256",
+     "pipeline stages of one Wald test (after the primitive cache's hit latency)"},
     {KS_DESC_PARAM, "ist.flops_per_test", "int", "39", "1..256",
      "FLOPs of one Wald test with the division counted as 11 (paper sec. 3.2; Markstein 2004)"},
     {KS_DESC_PORT, "in[i]", "in fifo<trv_msg>", "", "", "leaf work from TRV i (round-robin)"},

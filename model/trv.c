@@ -10,7 +10,6 @@ static const ks_desc_item trv_items[] = {
     {KS_DESC_PARAM, "trv.stack_depth", "int", "64", "1..4096", "entries per ray stack (paper sec. 3)"},
     {KS_DESC_PARAM, "trv.stack_banks", "int", "0", "0..64", "stack memory banks; 0 = N-1 (conflict-free pushes, sec. 3.1)"},
     {KS_DESC_PARAM, "trv.distance_stack", "enum auto|on|off", "auto", "", "distance stack culling; auto = on for N > 2 (sec. 3.1)"},
-    {KS_DESC_PARAM, "trv.stages_fetch", "int", "1", "1..16", "pipeline stages of the node L1 access"},
     {KS_DESC_PARAM, "trv.stages_box", "int", "3", "1..32", "pipeline stages of the slab test"},
     {KS_DESC_PARAM, "trv.stages_stack", "int", "1", "1..8", "pipeline stages of the stack access"},
     {KS_DESC_PARAM, "trv.stages_next", "int", "1", "1..8", "pipeline stages of the next-state logic"},

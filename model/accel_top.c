@@ -336,6 +336,15 @@ void accel_top_print_summary(accel_top *t, FILE *out)
             memsys_memory_model(t->mem) == MEMSYS_LPDDR3 ? "LPDDR3" : "fixed-latency");
 }
 
+/* First power of two strictly above the ring's maximum occupancy. */
+static uint32_t ring_suggest(const pipe_ring *r)
+{
+    uint32_t s = 1;
+    while (s <= r->max_count)
+        s *= 2;
+    return s;
+}
+
 int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen)
 {
     static const char *const suffix[] = {".new", ".leaf", ".return", ".done", ".loop", ".loop"};
@@ -355,6 +364,14 @@ int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen)
             uint32_t s = ks_fifo_suggested_capacity(f);
             if (s > want)
                 want = s;
+        }
+        /* the loop FIFOs are unit-internal rings */
+        if (k == 4)
+            for (uint32_t i = 0; i < t->p.trv_count; i++, any = true)
+                want = ring_suggest(&t->trv[i].loop) > want ? ring_suggest(&t->trv[i].loop) : want;
+        if (k == 5) {
+            any = true;
+            want = ring_suggest(&t->ist.loop) > want ? ring_suggest(&t->ist.loop) : want;
         }
         if (any && rtcfg_set_int(cfg, accel_fifo_key(k), want, err, errlen))
             return -1;

@@ -36,7 +36,7 @@ static void ist_describe(void *user, char *buf, unsigned cap)
     ist_unit *u = user;
     int n = snprintf(buf, cap, "%u rays held; issuing ray %lld; pipe %u/%u, loop %u/%u; out", (unsigned)u->rays_in_unit,
                      (long long)u->cur, u->pipe.count, u->pipe.cap,
-                     ks_fifo_occupancy(u->loop), ks_fifo_capacity(u->loop));
+                     u->loop.count, u->loop.cap);
     for (uint32_t i = 0; i < u->ntrv && n > 0 && (unsigned)n < cap; i++)
         n += snprintf(buf + n, cap - (unsigned)n, " %u/%u", ks_fifo_occupancy(u->out[i]), ks_fifo_capacity(u->out[i]));
 }
@@ -54,20 +54,18 @@ bool ist_init(ist_unit *u, const char *name, const ist_params *p, const accel_im
     u->rays = rays;
     u->clk = clk;
     u->cur = -1;
-    char nm[128];
     if (!pipe_ring_init(&u->pipe, pipe_capacity ? pipe_capacity : p->latency + 1, p->latency)) {
         snprintf(err, errlen, "%s: out of memory", name);
         return false;
     }
-    snprintf(nm, sizeof nm, "%s.loop", name);
-    u->loop = ks_fifo_create(sim, nm, sizeof(trv_msg), loop_capacity ? loop_capacity : 32, 1, clk);
-    if (!u->loop) {
-        snprintf(err, errlen, "%s: %s", name, ks_sim_error(sim));
+    if (!pipe_ring_init(&u->loop, loop_capacity ? loop_capacity : 32, 1)) {
+        snprintf(err, errlen, "%s: out of memory", name);
+        pipe_ring_free(&u->pipe);
         return false;
     }
+    (void)sim;
     u->proc = ks_clocked_create(clk, name, ist_step, u);
     ks_clocked_set_describe(u->proc, ist_busy, ist_describe);
-    ks_clocked_wake_on(u->proc, ks_fifo_ev_written(u->loop));
     return true;
 }
 
@@ -130,6 +128,8 @@ void ist_register(ist_unit *u, const char *name, ks_stats *st, ks_vcd *vcd)
         u->v_exit_ray = ks_vcd_var_int(vcd, nm, 32, 0xFFFFFFFFu);
         snprintf(nm, sizeof nm, "%s.pipe.occupancy", name);
         u->pipe.v_occ = ks_vcd_var_int(vcd, nm, 16, 0);
+        snprintf(nm, sizeof nm, "%s.loop.occupancy", name);
+        u->loop.v_occ = ks_vcd_var_int(vcd, nm, 16, 0);
     }
 }
 
@@ -149,13 +149,16 @@ static int ist_step(void *user, uint64_t cycle)
     const pipe_item *head = pipe_ring_ready(&u->pipe, cycle);
     if (head) {
         const accel_ray *r = &u->rays[head->ray];
-        ks_fifo *out = head->result ? u->loop : u->out[r->trv];
-        if (ks_fifo_can_write(out)) {
+        ks_fifo *out = head->result ? NULL : u->out[r->trv];
+        if (out ? ks_fifo_can_write(out) : !pipe_ring_full(&u->loop)) {
             pipe_item it = pipe_ring_pop(&u->pipe);
-            if (!it.result)
-                u->rays_in_unit--;
             trv_msg m = {it.ray, 0};
-            ks_fifo_write(out, &m);
+            if (out) {
+                u->rays_in_unit--;
+                ks_fifo_write(out, &m);
+            } else {
+                pipe_ring_push(&u->loop, it.ray, 0, cycle);
+            }
             if (u->v_exit_ray)
                 ks_vcd_set(u->v_exit_ray, m.ray);
             progress++;
@@ -169,12 +172,12 @@ static int ist_step(void *user, uint64_t cycle)
     if (u->cur < 0) {
         /* pick the next ray: looping rays first, then the TRVs round-robin */
         trv_msg m;
-        if (ks_fifo_read(u->loop, &m)) {
-            u->cur = m.ray;
+        if (pipe_ring_ready(&u->loop, cycle)) {
+            u->cur = pipe_ring_pop(&u->loop).ray;
         } else {
             for (uint32_t k = 0; k < u->ntrv; k++) {
                 uint32_t i = (u->rr + k) % u->ntrv;
-                if (ks_fifo_read(u->in[i], &m)) {
+                if (ks_fifo_can_read(u->in[i]) && ks_fifo_read(u->in[i], &m)) {
                     u->cur = m.ray;
                     u->rays_in_unit++;
                     u->rr = (i + 1) % u->ntrv;
@@ -216,7 +219,7 @@ static int ist_step(void *user, uint64_t cycle)
     }
     if (!progress) {
         uint64_t next = pipe_ring_next_exit(&u->pipe), c;
-        if ((c = head_cycle(u->loop, u->clk)) < next)
+        if ((c = pipe_ring_next_exit(&u->loop)) < next)
             next = c;
         for (uint32_t i = 0; i < u->ntrv; i++)
             if ((c = head_cycle(u->in[i], u->clk)) < next)
@@ -227,4 +230,8 @@ static int ist_step(void *user, uint64_t cycle)
     return progress;
 }
 
-void ist_free(ist_unit *u) { pipe_ring_free(&u->pipe); }
+void ist_free(ist_unit *u)
+{
+    pipe_ring_free(&u->pipe);
+    pipe_ring_free(&u->loop);
+}

@@ -37,8 +37,8 @@ typedef struct ist_unit {
     ks_clock *clk;
     uint32_t ntrv, rr;                 /* arbiter: next TRV input to look at first */
     ks_fifo *in[IST_MAX_TRV], *out[IST_MAX_TRV];
-    ks_fifo *loop;
     pipe_ring pipe;                    /* test pipeline after issue */
+    pipe_ring loop;                    /* exit -> issue loop FIFO (fifo.ray_ist_loop entries) */
     int64_t cur;                       /* ray holding the issue stage, -1 none */
     uint64_t busy_until, bank_stall_cycles;
     uint64_t busy_cycles, flops, rays_in_unit, exit_stall_cycles, issue_stall_cycles;

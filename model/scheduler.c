@@ -205,7 +205,7 @@ static int sched_step(void *user, uint64_t cycle)
     int progress = 0;
     for (uint32_t i = 0; i < s->ntrv; i++) {
         trv_msg m;
-        if (ks_fifo_read(s->from_trv[i], &m)) {
+        if (ks_fifo_can_read(s->from_trv[i]) && ks_fifo_read(s->from_trv[i], &m)) {
             complete(s, m.ray, cycle);
             progress++;
         }

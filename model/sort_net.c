@@ -57,18 +57,3 @@ const sort_net *sort_net_get(int n)
         build_nets();   /* idempotent: racing initialisers write identical bytes */
     return &nets[n];
 }
-
-int sort_net_apply(const sort_net *net, sort_key *keys)
-{
-    int swaps = 0;
-    for (int i = 0; i < net->ncmps; i++) {
-        sort_key *a = &keys[net->cmp[i].lo], *b = &keys[net->cmp[i].hi];
-        if (sort_key_before(b, a)) {
-            sort_key tmp = *a;
-            *a = *b;
-            *b = tmp;
-            swaps++;
-        }
-    }
-    return swaps;
-}

@@ -54,7 +54,21 @@ static inline bool sort_key_before(const sort_key *a, const sort_key *b)
 }
 
 /* Passes keys[0..lanes) through the network in place; returns the number of
- * compare-exchanges that swapped (activity statistics). */
-int sort_net_apply(const sort_net *net, sort_key *keys);
+ * compare-exchanges that swapped (activity statistics). Inline: it runs on
+ * every node visit of the simulation. */
+static inline int sort_net_apply(const sort_net *net, sort_key *keys)
+{
+    int swaps = 0;
+    for (int i = 0; i < net->ncmps; i++) {
+        sort_key *a = &keys[net->cmp[i].lo], *b = &keys[net->cmp[i].hi];
+        if (sort_key_before(b, a)) {
+            sort_key tmp = *a;
+            *a = *b;
+            *b = tmp;
+            swaps++;
+        }
+    }
+    return swaps;
+}
 
 #endif

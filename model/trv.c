@@ -62,7 +62,7 @@ static void trv_describe(void *user, char *buf, unsigned cap)
     snprintf(buf, cap,
              "%u rays held; pipe %u/%u, loop %u/%u; in_new %u, in_ist %u waiting; out_ist %u/%u, out_done %u/%u%s",
              (unsigned)t->rays_in_unit, t->pipe.count, t->pipe.cap,
-             ks_fifo_occupancy(t->loop), ks_fifo_capacity(t->loop), t->in_new ? ks_fifo_occupancy(t->in_new) : 0,
+             t->loop.count, t->loop.cap, t->in_new ? ks_fifo_occupancy(t->in_new) : 0,
              t->in_ist ? ks_fifo_occupancy(t->in_ist) : 0, t->out_ist ? ks_fifo_occupancy(t->out_ist) : 0,
              t->out_ist ? ks_fifo_capacity(t->out_ist) : 0, t->out_done ? ks_fifo_occupancy(t->out_done) : 0,
              t->out_done ? ks_fifo_capacity(t->out_done) : 0,
@@ -80,23 +80,22 @@ bool trv_init(trv_unit *t, uint32_t id, const char *name, const trv_params *p, c
     t->rays = rays;
     t->clk = clk;
     t->depth = trv_pipeline_depth(p);
-    char nm[128];
     /* one ray per stage after issue: capacity depth, exit depth-1 cycles later */
     if (!pipe_ring_init(&t->pipe, t->depth, t->depth - 1)) {
         snprintf(err, errlen, "%s: out of memory", name);
         trv_core_free(&t->core);
         return false;
     }
-    snprintf(nm, sizeof nm, "%s.loop", name);
-    t->loop = ks_fifo_create(sim, nm, sizeof(trv_msg), loop_capacity ? loop_capacity : p->core.slots, 1, clk);
-    if (!t->loop) {
-        snprintf(err, errlen, "%s: %s", name, ks_sim_error(sim));
+    /* the loop back to the issue stage: a bounded FIFO (fifo.ray_trv_loop), one cycle */
+    if (!pipe_ring_init(&t->loop, loop_capacity ? loop_capacity : p->core.slots, 1)) {
+        snprintf(err, errlen, "%s: out of memory", name);
+        pipe_ring_free(&t->pipe);
         trv_core_free(&t->core);
         return false;
     }
+    (void)sim;
     t->proc = ks_clocked_create(clk, name, trv_step, t);
     ks_clocked_set_describe(t->proc, trv_busy, trv_describe);
-    ks_clocked_wake_on(t->proc, ks_fifo_ev_written(t->loop));
     return true;
 }
 
@@ -175,6 +174,8 @@ void trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd)
         t->v_rays = ks_vcd_var_int(vcd, nm, 16, 0);
         snprintf(nm, sizeof nm, "%s.pipe.occupancy", name);
         t->pipe.v_occ = ks_vcd_var_int(vcd, nm, 16, 0);
+        snprintf(nm, sizeof nm, "%s.loop.occupancy", name);
+        t->loop.v_occ = ks_vcd_var_int(vcd, nm, 16, 0);
     }
 }
 
@@ -182,6 +183,7 @@ void trv_free(trv_unit *t)
 {
     trv_core_free(&t->core);
     pipe_ring_free(&t->pipe);
+    pipe_ring_free(&t->loop);
 }
 
 /* Earliest future cycle at which a FIFO head becomes readable (UINT64_MAX if none). */
@@ -201,19 +203,22 @@ static int trv_step(void *user, uint64_t cycle)
     /* exit stage: one ray per cycle leaves the pipeline */
     const pipe_item *head = pipe_ring_ready(&t->pipe, cycle);
     if (head) {
-        ks_fifo *out;
+        ks_fifo *out = NULL;
         switch (head->result) {
         case TRV_TO_IST: out = t->out_ist; break;
         case TRV_DONE:
         case TRV_OVERFLOW: out = t->out_done; break;
-        default: out = t->loop; break;
+        default: break;   /* next node or next chance: the loop */
         }
-        if (ks_fifo_can_write(out)) {
+        if (out ? ks_fifo_can_write(out) : !pipe_ring_full(&t->loop)) {
             pipe_item it = pipe_ring_pop(&t->pipe);
-            if (out != t->loop)
-                t->rays_in_unit--;
             trv_msg m = {it.ray, 0};
-            ks_fifo_write(out, &m);
+            if (out) {
+                t->rays_in_unit--;
+                ks_fifo_write(out, &m);
+            } else {
+                pipe_ring_push(&t->loop, it.ray, 0, cycle);
+            }
             if (t->v_exit_ray)
                 ks_vcd_set(t->v_exit_ray, m.ray);
             progress++;
@@ -231,20 +236,21 @@ static int trv_step(void *user, uint64_t cycle)
         t->stack_stall_cycles++;
         progress++;   /* the stack stage is working (the exit stage keeps draining) */
     } else if (!pipe_ring_full(&t->pipe)) {
-        ks_fifo *src = NULL;
-        uint64_t *ctr = NULL;
-        if (ks_fifo_can_read(t->in_ist))
-            src = t->in_ist, ctr = &t->issue_ist;
-        else if (ks_fifo_can_read(t->loop))
-            src = t->loop, ctr = &t->issue_loop;
-        else if (ks_fifo_can_read(t->in_new))
-            src = t->in_new, ctr = &t->issue_new;
-        if (src) {
-            trv_msg m;
-            ks_fifo_read(src, &m);
-            if (src == t->in_new || src == t->in_ist)
-                t->rays_in_unit++;
-            (*ctr)++;
+        trv_msg m;
+        bool got = true;
+        if (ks_fifo_can_read(t->in_ist) && ks_fifo_read(t->in_ist, &m)) {
+            t->issue_ist++;
+            t->rays_in_unit++;
+        } else if (pipe_ring_ready(&t->loop, cycle)) {
+            m.ray = pipe_ring_pop(&t->loop).ray;
+            t->issue_loop++;
+        } else if (ks_fifo_can_read(t->in_new) && ks_fifo_read(t->in_new, &m)) {
+            t->issue_new++;
+            t->rays_in_unit++;
+        } else {
+            got = false;
+        }
+        if (got) {
             accel_ray *r = &t->rays[m.ray];
             uint32_t stack_cycles = 0;
             uint64_t visits0 = t->core.st.visits;
@@ -276,7 +282,7 @@ static int trv_step(void *user, uint64_t cycle)
          * cover new writes and freed outputs) */
         uint64_t next = pipe_ring_next_exit(&t->pipe);
         uint64_t c;
-        if ((c = head_cycle(t->loop, t->clk)) < next)
+        if ((c = pipe_ring_next_exit(&t->loop)) < next)
             next = c;
         if ((c = head_cycle(t->in_ist, t->clk)) < next)
             next = c;

@@ -52,8 +52,9 @@ typedef struct trv_unit {
     accel_ray *rays;         /* the top level's ray table */
     ks_clocked *proc;
     ks_clock *clk;
-    ks_fifo *in_new, *in_ist, *out_ist, *out_done, *loop;
+    ks_fifo *in_new, *in_ist, *out_ist, *out_done;
     pipe_ring pipe;          /* stages after issue */
+    pipe_ring loop;          /* exit -> issue loop FIFO (fifo.ray_trv_loop entries) */
     uint64_t busy_until;     /* issue stalled by a multi-cycle stack operation */
     /* statistics */
     uint64_t busy_cycles, issue_new, issue_ist, issue_loop, exit_stall_cycles, stack_stall_cycles;
@@ -68,8 +69,7 @@ extern const ks_module_desc trv_module_desc;
 /* Pipeline depth for params: fetch + box + sort layers + stack + next. */
 uint32_t trv_pipeline_depth(const trv_params *p);
 
-/* Creates the unit's process on clk, its pipeline and its loop FIFO (named
- * "<name>.loop"); the port FIFOs must be set before the run
+/* Creates the unit's process on clk, its pipeline and its loop FIFO; the port FIFOs must be set before the run
  * (trv_bind). False with a message on bad parameters. */
 bool trv_init(trv_unit *t, uint32_t id, const char *name, const trv_params *p, const accel_image *img,
               accel_ray *rays, ks_sim *sim, ks_clock *clk, uint32_t loop_capacity, char *err, unsigned errlen);

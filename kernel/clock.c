@@ -216,7 +216,11 @@ ks_clocked *ks_clocked_create(ks_clock *c, const char *name, ks_step_fn step, vo
         c->woken = ks__xrealloc(c->woken, words * sizeof *c->woken);
         c->awake[words - 1] = c->woken[words - 1] = 0;
         c->n_words = words;
+        for (uint32_t i = 0; i < c->n_procs; i++)
+            c->procs[i]->woken_word = &c->woken[i >> 6];
     }
+    p->bit = (uint64_t)1 << (p->idx & 63);
+    p->woken_word = &c->woken[p->idx >> 6];
     sim->n_clocked++;
     /* Starts awake at the first edge at or after now that has not ticked. */
     uint64_t k = ks_clock_cycle_at_or_after(c, sim->now);
@@ -235,6 +239,7 @@ void ks_clocked_wake_on(ks_clocked *p, ks_event *ev)
 {
     KS_GROW(ev->clocked, ev->n_clocked, ev->cap_clocked);
     ev->clocked[ev->n_clocked++] = p;
+    ev->any_waiters = 1;
     KS_GROW(p->wake_events, p->n_wake, p->cap_wake);
     p->wake_events[p->n_wake++] = ev;
 }
@@ -255,27 +260,27 @@ void ks_clock_set_exhaustive(ks_clock *c, int on) { c->exhaustive = (uint8_t)(on
 
 /* ---- the tick ---- */
 
-static inline void step_one(ks_clock *c, ks_sim *sim, ks_clocked *p, uint64_t cycle)
+/* Steps one process; returns its progress. The awake bit of a process
+ * being stepped is set; it is cleared when the process goes to sleep. */
+static inline uint64_t step_one(ks_clock *c, ks_clocked *p, uint64_t cycle)
 {
     p->slept = 0;
     int r = p->step(p->user, cycle);
     p->steps++;
-    sim->activations++;
-    uint64_t bit = (uint64_t)1 << (p->idx & 63);
     if (r > 0) {
         p->progress += (uint64_t)r;
-        sim->progress += (uint64_t)r;
-        sim->last_progress = sim->now;
         if (!p->slept) {
-            c->awake[p->idx >> 6] |= bit;
-            return;
+            if (c->exhaustive)
+                c->awake[p->idx >> 6] |= p->bit;
+            return (uint64_t)r;
         }
     }
-    c->awake[p->idx >> 6] &= ~bit;
+    c->awake[p->idx >> 6] &= ~p->bit;
     if (p->slept && p->sleep_until > cycle && p->last_timer != p->sleep_until) {
         p->last_timer = p->sleep_until;
         timer_push(c, p->sleep_until, p->idx);
     }
+    return r > 0 ? (uint64_t)r : 0;
 }
 
 static void clock_step(void *user)
@@ -286,6 +291,7 @@ static void clock_step(void *user)
     c->scheduled = 0;
     c->cur_cycle = cycle;
     c->cur_time = sim->now;
+    c->next_time = sim->now + c->period;
     c->next_min = cycle + 1;
     c->started = 1;
     c->in_tick = 1;
@@ -302,18 +308,27 @@ static void clock_step(void *user)
         c->awake[w] |= c->woken[w];
         c->woken[w] = 0;
     }
+    uint64_t progress = 0, steps = 0;
     if (c->exhaustive) {
         for (uint32_t i = 0; i < c->n_procs; i++)
-            step_one(c, sim, c->procs[i], cycle);
+            progress += step_one(c, c->procs[i], cycle);
+        steps = c->n_procs;
     } else {
+        ks_clocked **procs = c->procs;
         for (uint32_t w = 0; w < nw; w++) {
             uint64_t bits = c->awake[w];
             while (bits) {
                 uint32_t i = (w << 6) | (uint32_t)__builtin_ctzll(bits);
                 bits &= bits - 1;
-                step_one(c, sim, c->procs[i], cycle);
+                progress += step_one(c, procs[i], cycle);
+                steps++;
             }
         }
+    }
+    sim->activations += steps;
+    if (progress) {
+        sim->progress += progress;
+        sim->last_progress = sim->now;
     }
     c->in_tick = 0;
     if (c->posedge.n_statics || c->posedge.dyn_head)

@@ -40,6 +40,8 @@ typedef struct ks_event {
     uint64_t pending_key;           /* queue key of the pending notification */
     ks_time pending_time;
     uint8_t pending;                /* 0 none, 1 delta, 2 timed */
+    uint8_t has_methods;            /* n_statics || dyn_head */
+    uint8_t any_waiters;            /* has_methods || n_clocked */
     uint64_t notify_count;          /* times it triggered (statistics, tests) */
 } ks_event;
 

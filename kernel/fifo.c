@@ -1,5 +1,6 @@
 /* fifo.c — timed FIFO channels (contract in fifo.h): a ring buffer of
  * fixed-size items with the ready time stored per entry. */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -38,7 +39,7 @@ ks_fifo *ks_fifo_create(ks_sim *sim, const char *name, size_t elem_size, uint32_
     ks_event_init(&f->ev_written, sim, ev);
     snprintf(ev, sizeof ev, "%s.freed", name);
     ks_event_init(&f->ev_freed, sim, ev);
-    f->created = f->last_change = sim->now;
+    f->created = sim->now;
     KS_GROW(sim->fifos, sim->n_fifos, sim->cap_fifos);
     sim->fifos[sim->n_fifos++] = f;
     if (sim->vcd)
@@ -75,8 +76,8 @@ double ks_fifo_mean_occupancy(const ks_fifo *f)
     ks_time span = now - f->created;
     if (span <= 0)
         return (double)f->count;
-    double area = f->occ_area + (double)f->count * (double)(now - f->last_change);
-    return area / (double)span;
+    unsigned __int128 area = f->sum_read_t + (unsigned __int128)f->count * (uint64_t)now - f->sum_write_t;
+    return (double)area / (double)span;
 }
 
 uint32_t ks_fifo_suggested_capacity(const ks_fifo *f)
@@ -114,62 +115,11 @@ int ks_fifo_set_capacity(ks_fifo *f, uint32_t capacity)
     return 0;
 }
 
-static inline void occ_change(ks_fifo *f, ks_time now)
+void ks__fifo_size_mismatch(const ks_fifo *f, size_t size)
 {
-    f->occ_area += (double)f->count * (double)(now - f->last_change);
-    f->last_change = now;
-}
-
-int ks_fifo_write(ks_fifo *f, const void *item)
-{
-    if (f->count == f->capacity) {
-        f->rejected++;
-        return 0;
-    }
-    ks_time now = *f->now;
-    if (now != f->last_change)
-        occ_change(f, now);
-    uint32_t i = f->head + f->count;
-    if (i >= f->capacity)
-        i -= f->capacity;
-    memcpy(f->data + (size_t)i * f->elem_size, item, f->elem_size);
-    ks_time ready = now + f->latency_ps;
-    f->ready[i] = ready;
-    f->count++;
-    f->writes++;
-    if (f->count > f->max_occ)
-        f->max_occ = f->count;
-    if (f->vcd_occ)
-        ks_vcd_set(f->vcd_occ, f->count);
-    if (f->latency_ps)
-        ks_event_notify_at(&f->ev_written, ready);
-    else
-        ks_event_notify_delta(&f->ev_written);
-    return 1;
-}
-
-int ks_fifo_read(ks_fifo *f, void *out)
-{
-    ks_time now = *f->now;
-    if (!f->count || f->ready[f->head] > now)
-        return 0;
-    if (now != f->last_change)
-        occ_change(f, now);
-    if (out)
-        memcpy(out, f->data + (size_t)f->head * f->elem_size, f->elem_size);
-    if (++f->head == f->capacity)
-        f->head = 0;
-    f->count--;
-    f->reads++;
-    if (f->vcd_occ)
-        ks_vcd_set(f->vcd_occ, f->count);
-    ks_event_notify_delta(&f->ev_freed);
-    /* Re-announce the next item when it is not ready yet: the event keeps
-     * only its earliest pending notification, so a later write's one may
-     * have been dropped while an earlier one was pending. */
-    if (f->count && f->ready[f->head] > now)
-        ks_event_notify_at(&f->ev_written, f->ready[f->head]);
-    return 1;
+    fprintf(stderr, "rtsim kernel: fifo '%s' holds %u-byte items, accessed with %zu bytes\n", f->name,
+            f->elem_size, size);
+    abort();
 }
 
 uint32_t ks_sim_fifo_count(const ks_sim *sim) { return (uint32_t)sim->n_fifos; }

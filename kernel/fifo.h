@@ -26,6 +26,7 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include "kernel/clock.h"
 #include "kernel/event.h"
@@ -46,8 +47,10 @@ typedef struct ks_fifo {
     ks_event ev_written, ev_freed;
     /* statistics */
     uint32_t max_occ;
-    ks_time created, last_change;
-    double occ_area;         /* integral of occupancy dt (ps) */
+    ks_time created;
+    /* Occupancy integral = sum of read times + count * now - sum of write
+     * times (each item contributes its residence time); exact. */
+    unsigned __int128 sum_write_t, sum_read_t;
     uint64_t writes, reads, rejected;
     struct ks_vcd_var *vcd_occ;
 } ks_fifo;
@@ -70,9 +73,15 @@ static inline const void *ks_fifo_peek(const ks_fifo *f)
     return ks_fifo_can_read(f) ? f->data + (size_t)f->head * f->elem_size : NULL;
 }
 /* 1 on success, 0 when full (counted as a rejected write). */
-int ks_fifo_write(ks_fifo *f, const void *item);
+static inline int ks_fifo_write(ks_fifo *f, const void *item);
 /* 1 on success (item copied to out unless NULL), 0 when nothing readable. */
-int ks_fifo_read(ks_fifo *f, void *out);
+static inline int ks_fifo_read(ks_fifo *f, void *out);
+/* The same with the item size known at the call site (sizeof *ptr), which
+ * lets the compiler inline the copy; the size must equal elem_size. */
+#define KS_FIFO_WRITE(f, ptr) ks_fifo_write_sized((f), (ptr), sizeof *(ptr))
+#define KS_FIFO_READ(f, ptr) ks_fifo_read_sized((f), (ptr), sizeof *(ptr))
+static inline int ks_fifo_write_sized(ks_fifo *f, const void *item, size_t size);
+static inline int ks_fifo_read_sized(ks_fifo *f, void *out, size_t size);
 /* Ready time of the oldest item (KS_TIME_MAX when empty). */
 ks_time ks_fifo_head_ready_time(const ks_fifo *f);
 
@@ -93,5 +102,110 @@ int ks_fifo_set_capacity(ks_fifo *f, uint32_t capacity);
 /* All FIFOs of a sim, in creation order (auto-sizing, reports). */
 uint32_t ks_sim_fifo_count(const ks_sim *sim);
 ks_fifo *ks_sim_fifo_at(const ks_sim *sim, uint32_t i);
+
+
+/* ---- inline hot paths (private) ---- */
+#include "kernel/sched_types.h"
+
+#define KS_ALWAYS_INLINE inline __attribute__((always_inline))
+
+/* Item copy without a library call for the usual item sizes (multiples of
+ * 8 bytes up to 64): a short loop of 8-byte moves. */
+static KS_ALWAYS_INLINE void ks__fifo_copy(void *dst, const void *src, uint32_t n)
+{
+    unsigned char *d = dst;
+    const unsigned char *s = src;
+    if ((n & 7) == 0 && n <= 64) {
+        for (uint32_t i = 0; i < n; i += 8)
+            memcpy(d + i, s + i, 8);
+    } else {
+        memcpy(d, s, n);
+    }
+}
+
+void ks__fifo_size_mismatch(const ks_fifo *f, size_t size);
+
+static KS_ALWAYS_INLINE int ks__fifo_write(ks_fifo *f, const void *item, int sized, size_t size)
+{
+    if (f->count == f->capacity) {
+        f->rejected++;
+        return 0;
+    }
+    ks_time now = *f->now;
+    f->sum_write_t += (uint64_t)now;
+    uint32_t i = f->head + f->count;
+    if (i >= f->capacity)
+        i -= f->capacity;
+    if (sized)
+        memcpy(f->data + (size_t)i * size, item, size);
+    else
+        ks__fifo_copy(f->data + (size_t)i * f->elem_size, item, f->elem_size);
+    ks_time ready = now + f->latency_ps;
+    f->ready[i] = ready;
+    f->count++;
+    f->writes++;
+    if (f->count > f->max_occ)
+        f->max_occ = f->count;
+    if (f->vcd_occ)
+        ks_vcd_set(f->vcd_occ, f->count);
+    if (ready > now)
+        ks__event_notify_at(&f->ev_written, ready);
+    else
+        ks__event_notify_delta(&f->ev_written);
+    return 1;
+}
+
+static KS_ALWAYS_INLINE int ks__fifo_read(ks_fifo *f, void *out, int sized, size_t size)
+{
+    ks_time now = *f->now;
+    if (!f->count || f->ready[f->head] > now)
+        return 0;
+    f->sum_read_t += (uint64_t)now;
+    if (out) {
+        if (sized)
+            memcpy(out, f->data + (size_t)f->head * size, size);
+        else
+            ks__fifo_copy(out, f->data + (size_t)f->head * f->elem_size, f->elem_size);
+    }
+    if (++f->head == f->capacity)
+        f->head = 0;
+    f->count--;
+    f->reads++;
+    if (f->vcd_occ)
+        ks_vcd_set(f->vcd_occ, f->count);
+    ks__event_notify_delta(&f->ev_freed);
+    /* Method waiters only: the event keeps just its earliest pending
+     * notification, so the next item's one may have been dropped while an
+     * earlier one was pending; re-announce it. (Clocked waiters got their
+     * own wake-up for every write.) */
+    if (f->ev_written.has_methods && f->count &&
+        f->ready[f->head] > now)
+        ks__event_notify_at_methods(&f->ev_written, f->ready[f->head]);
+    return 1;
+}
+
+static KS_ALWAYS_INLINE int ks_fifo_write(ks_fifo *f, const void *item)
+{
+    return ks__fifo_write(f, item, 0, 0);
+}
+
+static KS_ALWAYS_INLINE int ks_fifo_read(ks_fifo *f, void *out)
+{
+    return ks__fifo_read(f, out, 0, 0);
+}
+
+static KS_ALWAYS_INLINE int ks_fifo_write_sized(ks_fifo *f, const void *item, size_t size)
+{
+    if (size != f->elem_size)
+        ks__fifo_size_mismatch(f, size);
+    return ks__fifo_write(f, item, 1, size);
+}
+
+static KS_ALWAYS_INLINE int ks_fifo_read_sized(ks_fifo *f, void *out, size_t size)
+{
+    if (size != f->elem_size)
+        ks__fifo_size_mismatch(f, size);
+    return ks__fifo_read(f, out, 1, size);
+}
 
 #endif

@@ -45,6 +45,7 @@ void ks_method_sensitive(ks_method *m, ks_event *ev)
 {
     KS_GROW(ev->statics, ev->n_statics, ev->cap_statics);
     ev->statics[ev->n_statics++] = m;
+    ev->has_methods = ev->any_waiters = 1;
     KS_GROW(m->sens, m->n_sens, m->cap_sens);
     m->sens[m->n_sens++] = ev;
 }
@@ -70,6 +71,8 @@ static void dyn_unlink(ks_method *m)
         ev->dyn_head = m->dyn_next;
     if (m->dyn_next)
         m->dyn_next->dyn_prev = m->dyn_prev;
+    ev->has_methods = ev->n_statics || ev->dyn_head;
+    ev->any_waiters = ev->has_methods || ev->n_clocked;
     m->dyn_prev = m->dyn_next = NULL;
     m->dyn_event = NULL;
 }
@@ -90,6 +93,7 @@ static void dyn_link(ks_method *m, ks_event *ev)
     if (ev->dyn_head)
         ev->dyn_head->dyn_prev = m;
     ev->dyn_head = m;
+    ev->has_methods = ev->any_waiters = 1;
 }
 
 static void set_timeout(ks_method *m, ks_time delay)

@@ -12,11 +12,13 @@ enum { VAR_BIT = 0, VAR_INT = 1, VAR_ENUM = 2 };
 
 struct ks_vcd_var {
     ks_vcd *vcd;
-    uint64_t value;
+    uint64_t value;            /* current value */
+    uint64_t emitted;          /* value as of the last time written out */
     uint64_t mask;
     uint8_t kind;
     uint8_t idlen;
-    char id[6];
+    uint8_t dirty;             /* in the dirty list of the current time */
+    char id[8];                /* padded: copied as 8 bytes */
     unsigned width;
     const char *const *names;
     unsigned n_names;
@@ -41,10 +43,13 @@ struct ks_vcd {
     size_t pos;
     uint64_t flushed;
     int64_t last_vt;
+    ks_time cur_t;             /* time of the changes in the dirty list */
+    ks_vcd_var **dirty;
+    unsigned n_dirty, cap_dirty;
     uint8_t header_done, started, ended, io_error;
 };
 
-static char bin8[256][8];
+static char bin8[257][8]; /* one spare row: top-byte copies read past a row */
 static int bin8_ready;
 
 static void init_tables(void)
@@ -111,10 +116,10 @@ static inline char *put_bin(char *p, uint64_t v)
         return p;
     }
     int nb = 64 - __builtin_clzll(v);
-    int lead = nb & 7;
-    int sh = nb - lead;
-    for (int i = lead - 1; i >= 0; i--)
-        *p++ = (char)('0' + ((v >> (sh + i)) & 1));
+    int sh = ((nb - 1) >> 3) << 3;  /* bit offset of the top byte */
+    int lead = nb - sh;             /* 1..8 significant bits in it */
+    memcpy(p, bin8[(v >> sh) & 255] + (8 - lead), 8);
+    p += lead;
     while (sh > 0) {
         sh -= 8;
         memcpy(p, bin8[(v >> sh) & 255], 8);
@@ -126,7 +131,7 @@ static inline char *put_bin(char *p, uint64_t v)
 static void emit_value(ks_vcd *d, const ks_vcd_var *v)
 {
     if (v->kind == VAR_ENUM) {
-        const char *s = v->value < v->n_names && v->names[v->value] ? v->names[v->value] : "?";
+        const char *s = v->emitted < v->n_names && v->names[v->emitted] ? v->names[v->emitted] : "?";
         size_t n = strlen(s);
         if (n > 4096)
             n = 4096;
@@ -142,16 +147,16 @@ static void emit_value(ks_vcd *d, const ks_vcd_var *v)
         d->pos = (size_t)(p - d->buf);
         return;
     }
-    ensure(d, 80);
+    ensure(d, 96);
     char *p = d->buf + d->pos;
     if (v->kind == VAR_BIT) {
-        *p++ = (char)('0' + (v->value & 1));
+        *p++ = (char)('0' + (v->emitted & 1));
     } else {
         *p++ = 'b';
-        p = put_bin(p, v->value);
+        p = put_bin(p, v->emitted);
         *p++ = ' ';
     }
-    memcpy(p, v->id, v->idlen);
+    memcpy(p, v->id, 8);
     p += v->idlen;
     *p++ = '\n';
     d->pos = (size_t)(p - d->buf);
@@ -289,32 +294,69 @@ static void start_window(ks_vcd *d)
     put_str(d, "$end\n");
 }
 
-void ks_vcd_set(ks_vcd_var *v, uint64_t value)
+/* Writes out the changes recorded at d->cur_t: only variables whose value
+ * at the end of that time differs from the one last written (glitches
+ * within one time stamp vanish, as in a sampled waveform). */
+static void flush_dirty(ks_vcd *d)
 {
-    if (!v)
+    ks_time t = d->cur_t;
+    if (t < d->begin || d->ended) {
+        for (unsigned i = 0; i < d->n_dirty; i++) {
+            d->dirty[i]->emitted = d->dirty[i]->value;
+            d->dirty[i]->dirty = 0;
+        }
+        d->n_dirty = 0;
         return;
+    }
+    if (!d->started)
+        start_window(d);
+    if (t >= d->end) {
+        emit_time(d, d->end);
+        d->ended = 1;
+        for (unsigned i = 0; i < d->n_dirty; i++)
+            d->dirty[i]->dirty = 0;
+        d->n_dirty = 0;
+        return;
+    }
+    int timed = 0;
+    for (unsigned i = 0; i < d->n_dirty; i++) {
+        ks_vcd_var *v = d->dirty[i];
+        v->dirty = 0;
+        if (v->value != v->emitted) {
+            if (!timed) {
+                emit_time(d, t);
+                timed = 1;
+            }
+            v->emitted = v->value;
+            emit_value(d, v);
+        }
+    }
+    d->n_dirty = 0;
+}
+
+void ks__vcd_set(ks_vcd_var *v, uint64_t value)
+{
     value &= v->mask;
     if (value == v->value)
         return;
     ks_vcd *d = v->vcd;
     ks_time now = *d->now;
-    if (now < d->begin || d->ended) {
-        v->value = value;
-        if (!d->header_done)
-            write_header(d); /* freezes the declarations */
-        return;
+    if (now != d->cur_t) {
+        if (d->n_dirty)
+            flush_dirty(d);
+        d->cur_t = now;
     }
-    if (!d->started)
-        start_window(d);
-    if (now >= d->end) {
-        emit_time(d, d->end);
-        d->ended = 1;
-        v->value = value;
-        return;
-    }
-    emit_time(d, now);
+    if (!d->header_done)
+        write_header(d); /* freezes the declarations */
     v->value = value;
-    emit_value(d, v);
+    if (!v->dirty) {
+        v->dirty = 1;
+        if (d->n_dirty == d->cap_dirty) {
+            d->cap_dirty = d->cap_dirty ? d->cap_dirty * 2 : 64;
+            d->dirty = ks__xrealloc(d->dirty, d->cap_dirty * sizeof *d->dirty);
+        }
+        d->dirty[d->n_dirty++] = v;
+    }
 }
 
 /* ---- declarations ---- */
@@ -362,7 +404,7 @@ static ks_vcd_var *declare(ks_vcd *d, const char *name, int kind, unsigned width
     v->kind = (uint8_t)kind;
     v->width = width;
     v->mask = width >= 64 ? UINT64_MAX : (((uint64_t)1 << width) - 1);
-    v->value = init & v->mask;
+    v->value = v->emitted = init & v->mask;
     v->name = ks__xstrdup(name);
     v->order = d->n_vars;
     unsigned n = d->n_vars;
@@ -523,6 +565,8 @@ void ks__vcd_finish(ks_vcd *d)
 {
     if (!d->header_done)
         write_header(d);
+    if (d->n_dirty)
+        flush_dirty(d);
     ks_time now = *d->now;
     if (!d->started && now >= d->begin)
         start_window(d);
@@ -562,6 +606,7 @@ int ks_vcd_close(ks_vcd *d)
     for (unsigned i = 0; i < d->n_pats; i++)
         free(d->pats[i]);
     free(d->pats);
+    free(d->dirty);
     free(d->vars);
     free(d->buf);
     free(d->path);

@@ -48,7 +48,12 @@ ks_vcd_var *ks_vcd_var_enum(ks_vcd *vcd, const char *name, const char *const *na
 
 /* Sets the value at the sim's current time (bit: 0/1; int: masked to the
  * width; enum: index < n). */
-void ks_vcd_set(ks_vcd_var *var, uint64_t value);
+void ks__vcd_set(ks_vcd_var *var, uint64_t value);
+static inline void ks_vcd_set(ks_vcd_var *var, uint64_t value)
+{
+    if (var)
+        ks__vcd_set(var, value);
+}
 /* Bytes written so far (including what is still buffered). */
 uint64_t ks_vcd_bytes(const ks_vcd *vcd);
 /* Number of declared (traced) variables. */

@@ -1,0 +1,220 @@
+/* sched_types.h — the kernel's private scheduling structures.
+ *
+ * Not an API: model code must not touch these fields. They are visible only
+ * so that the hot paths (FIFO read/write and the wake-ups they cause) can be
+ * inlined into the caller, which is what makes an activation cost a few
+ * nanoseconds (docs/kernel.md "Performance"). */
+#ifndef KS_SCHED_TYPES_H
+#define KS_SCHED_TYPES_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "kernel/clock.h"
+#include "kernel/event.h"
+#include "kernel/process.h"
+#include "kernel/signal.h"
+#include "kernel/sim.h"
+#include "kernel/vcd.h"
+
+enum { KS_K_EVENT = 0, KS_K_TIMEOUT = 1, KS_K_CLOCK = 2 };
+enum { KS_PEND_NONE = 0, KS_PEND_DELTA = 1, KS_PEND_TIMED = 2 };
+enum { KS_DYN_STATIC = 0, KS_DYN_EVENT = 1, KS_DYN_TIME = 2, KS_DYN_EVENT_TIMEOUT = 3 };
+
+typedef struct ks_qentry {
+    ks_time t;
+    uint64_t key;
+    void *obj;
+} ks_qentry;
+
+typedef struct ks_dentry {
+    void *obj;
+    uint64_t key;
+} ks_dentry;
+
+struct ks_method {
+    ks_sim *sim;
+    char *name;
+    ks_method_fn fn;
+    void *user;
+    uint8_t runnable;
+    uint8_t dont_init;
+    uint8_t inited;
+    uint8_t dyn_mode;          /* KS_DYN_*: what the next activation waits on */
+    ks_event *dyn_event;       /* when waiting dynamically on an event */
+    struct ks_method *dyn_prev, *dyn_next;
+    uint64_t timeout_key;      /* key of the valid timeout entry, 0 none */
+    uint64_t runs;
+    ks_event **sens;           /* static sensitivity (for reports) */
+    uint32_t n_sens, cap_sens;
+    ks_busy_fn busy;
+    ks_describe_fn describe;
+    void *clock;               /* non-NULL: the stepper of this clock */
+};
+
+struct ks_clocked {
+    ks_clock *clk;
+    char *name;
+    ks_step_fn step;
+    void *user;
+    uint32_t idx;
+    uint64_t bit;              /* 1 << (idx & 63) */
+    uint64_t *woken_word;      /* &clk->woken[idx >> 6] */
+    uint8_t slept;             /* sleep_until_cycle called in this step */
+    uint64_t sleep_until;
+    uint64_t last_timer;       /* cycle of the last timer pushed (dedupe) */
+    uint64_t steps, progress;
+    ks_event **wake_events;
+    uint32_t n_wake, cap_wake;
+    ks_busy_fn busy;
+    ks_describe_fn describe;
+};
+
+typedef struct ks_timer {
+    uint64_t cycle;
+    uint32_t idx;
+    uint32_t pad;
+} ks_timer;
+
+struct ks_clock {
+    ks_sim *sim;
+    char *name;
+    ks_time period;
+    ks_method *stepper;
+    ks_clocked **procs;
+    uint32_t n_procs, cap_procs;
+    uint64_t *awake, *woken;   /* bit per process */
+    uint32_t n_words;
+    ks_timer *timers;          /* min-heap on (cycle, idx) */
+    uint32_t n_timers, cap_timers;
+    uint64_t cur_cycle;        /* last ticked cycle */
+    ks_time cur_time;          /* its edge time */
+    ks_time next_time;         /* edge time of cur_cycle + 1 */
+    uint64_t next_min;         /* first cycle that may still tick */
+    uint64_t sched_cycle;      /* next tick, valid when scheduled */
+    uint64_t tick_key;
+    uint8_t scheduled, in_tick, exhaustive, started;
+    uint64_t ticks;
+    ks_event posedge;
+};
+
+struct ks_signal {
+    ks_sim *sim;
+    char *name;
+    unsigned width;
+    uint64_t mask, cur, next;
+    uint8_t upd_pending;
+    ks_event changed;
+    ks_vcd_var *vcd_var;
+};
+
+struct ks_sim {
+    ks_time now;
+    uint64_t seq;
+    ks_qentry *heap;
+    size_t n_heap, cap_heap;
+    ks_method **run;
+    size_t n_run, cap_run;
+    ks_dentry *delta, *delta2;
+    size_t n_delta, cap_delta, cap_delta2;
+    ks_signal **upd;
+    size_t n_upd, cap_upd;
+    ks_method **methods;
+    size_t n_methods, cap_methods;
+    size_t n_uninit_from;      /* methods[n_uninit_from..] not initialised yet */
+    ks_clock **clocks;
+    size_t n_clocks, cap_clocks;
+    ks_fifo **fifos;
+    size_t n_fifos, cap_fifos;
+    ks_signal **signals;
+    size_t n_signals, cap_signals;
+    size_t n_clocked;
+    uint64_t deltas, activations, progress;
+    ks_time last_progress;
+    uint64_t dl_cycles;
+    char *report;
+    uint8_t stop, running;
+    ks_vcd *vcd;
+    char error[512];
+};
+
+
+/* Out-of-line parts of the wake-up and notification paths. */
+void ks__clocked_wake_after_now(ks_clocked *p);     /* immediate/delta */
+void ks__clocked_wake_at_time(ks_clocked *p, ks_time t);
+void ks__grow_run(ks_sim *sim);
+void ks__grow_delta(ks_sim *sim);
+
+static inline void ks__make_runnable(ks_sim *sim, ks_method *m)
+{
+    if (m->runnable)
+        return;
+    m->runnable = 1;
+    if (sim->n_run == sim->cap_run)
+        ks__grow_run(sim);
+    sim->run[sim->n_run++] = m;
+}
+
+/* Wakes the clocked waiters of an event at the next edge after now. */
+static inline void ks__wake_clocked_next(const ks_event *ev)
+{
+    for (uint32_t i = 0; i < ev->n_clocked; i++) {
+        ks_clocked *p = ev->clocked[i];
+        ks_clock *c = p->clk;
+        if (c->in_tick)
+            *p->woken_word |= p->bit;
+        else
+            ks__clocked_wake_after_now(p);
+    }
+}
+
+/* Wakes the clocked waiters of an event at the first edge at or after t > now. */
+static inline void ks__wake_clocked_at(const ks_event *ev, ks_time t)
+{
+    for (uint32_t i = 0; i < ev->n_clocked; i++) {
+        ks_clocked *p = ev->clocked[i];
+        ks_clock *c = p->clk;
+        if (c->in_tick && t == c->next_time)
+            *p->woken_word |= p->bit;
+        else
+            ks__clocked_wake_at_time(p, t);
+    }
+}
+
+/* Delta notification; an event is in the delta list at most once while
+ * pending (a cancelled entry is skipped when its pending flag is gone). */
+void ks__event_notify_delta_slow(ks_event *ev);
+static inline __attribute__((always_inline)) void ks__event_notify_delta(ks_event *ev)
+{
+    if (!ev->any_waiters)
+        return;
+    if (ev->n_clocked)
+        ks__wake_clocked_next(ev);
+    if (!ev->has_methods)
+        return;
+    if (ev->pending != KS_PEND_NONE) {
+        if (ev->pending == KS_PEND_TIMED)
+            ks__event_notify_delta_slow(ev);
+        return;
+    }
+    ks_sim *sim = ev->sim;
+    ev->pending = KS_PEND_DELTA;
+    if (sim->n_delta == sim->cap_delta)
+        ks__grow_delta(sim);
+    sim->delta[sim->n_delta].obj = ev;
+    sim->delta[sim->n_delta].key = 0;
+    sim->n_delta++;
+}
+
+void ks__event_notify_at_methods(ks_event *ev, ks_time when);
+static inline __attribute__((always_inline)) void ks__event_notify_at(ks_event *ev, ks_time when)
+{
+    if (!ev->any_waiters)
+        return;
+    if (ev->n_clocked)
+        ks__wake_clocked_at(ev, when);
+    if (ev->has_methods)
+        ks__event_notify_at_methods(ev, when);
+}
+
+#endif

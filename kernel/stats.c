@@ -1,0 +1,466 @@
+/* stats.c — statistics registry (contract in stats.h). */
+#include <math.h>
+#include <stdarg.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "kernel/stats.h"
+
+enum { ST_COUNTER, ST_REAL, ST_HIST, ST_FORMULA, ST_RATIO };
+
+struct ks_histogram {
+    double lo, hi, width;
+    unsigned bins;
+    uint64_t *counts;
+    uint64_t under, over, count;
+    double sum, min, max;
+};
+
+typedef struct stat_entry {
+    int kind;
+    char *name, *unit, *desc;
+    uint64_t own_u;
+    double own_d;
+    const uint64_t *u;
+    const double *d;
+    ks_histogram *h;
+    ks_formula_fn fn;
+    void *user;
+    char *num, *den;
+} stat_entry;
+
+struct ks_stats {
+    stat_entry **e;
+    unsigned n, cap;
+    char error[256];
+};
+
+static void *xrealloc(void *p, size_t n)
+{
+    void *q = realloc(p, n ? n : 1);
+    if (!q) {
+        fprintf(stderr, "rtsim kernel: out of memory\n");
+        abort();
+    }
+    return q;
+}
+
+static char *xstrdup(const char *s)
+{
+    if (!s)
+        s = "";
+    size_t n = strlen(s) + 1;
+    char *d = xrealloc(NULL, n);
+    memcpy(d, s, n);
+    return d;
+}
+
+static void set_error(ks_stats *reg, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(reg->error, sizeof reg->error, fmt, ap);
+    va_end(ap);
+}
+
+ks_stats *ks_stats_create(void)
+{
+    ks_stats *r = xrealloc(NULL, sizeof *r);
+    memset(r, 0, sizeof *r);
+    return r;
+}
+
+void ks_stats_destroy(ks_stats *reg)
+{
+    if (!reg)
+        return;
+    for (unsigned i = 0; i < reg->n; i++) {
+        stat_entry *e = reg->e[i];
+        free(e->name);
+        free(e->unit);
+        free(e->desc);
+        free(e->num);
+        free(e->den);
+        if (e->h) {
+            free(e->h->counts);
+            free(e->h);
+        }
+        free(e);
+    }
+    free(reg->e);
+    free(reg);
+}
+
+const char *ks_stats_error(const ks_stats *reg) { return reg->error; }
+unsigned ks_stats_count(const ks_stats *reg) { return reg->n; }
+
+static stat_entry *find(const ks_stats *reg, const char *name)
+{
+    for (unsigned i = 0; i < reg->n; i++)
+        if (!strcmp(reg->e[i]->name, name))
+            return reg->e[i];
+    return NULL;
+}
+
+static int name_ok(ks_stats *reg, const char *name)
+{
+    if (!name || !*name) {
+        set_error(reg, "statistic without a name");
+        return 0;
+    }
+    for (const char *c = name; *c; c++)
+        if (*c == '"' || *c == '\\' || *c == ',' || (unsigned char)*c < 32) {
+            set_error(reg, "statistic '%s': name may not contain quotes, backslashes, commas or control characters", name);
+            return 0;
+        }
+    return 1;
+}
+
+static stat_entry *add(ks_stats *reg, int kind, const char *name, const char *unit,
+                       const char *desc)
+{
+    if (!name_ok(reg, name))
+        return NULL;
+    if (find(reg, name)) {
+        set_error(reg, "statistic '%s' registered twice", name);
+        return NULL;
+    }
+    stat_entry *e = xrealloc(NULL, sizeof *e);
+    memset(e, 0, sizeof *e);
+    e->kind = kind;
+    e->name = xstrdup(name);
+    e->unit = xstrdup(unit);
+    e->desc = xstrdup(desc);
+    if (reg->n == reg->cap) {
+        reg->cap = reg->cap ? reg->cap * 2 : 16;
+        reg->e = xrealloc(reg->e, reg->cap * sizeof *reg->e);
+    }
+    reg->e[reg->n++] = e;
+    return e;
+}
+
+uint64_t *ks_stat_counter(ks_stats *reg, const char *name, const char *unit, const char *desc)
+{
+    stat_entry *old = name ? find(reg, name) : NULL;
+    if (old && old->kind == ST_COUNTER && old->u == &old->own_u)
+        return &old->own_u;
+    stat_entry *e = add(reg, ST_COUNTER, name, unit, desc);
+    if (!e)
+        return NULL;
+    e->u = &e->own_u;
+    return &e->own_u;
+}
+
+double *ks_stat_real(ks_stats *reg, const char *name, const char *unit, const char *desc)
+{
+    stat_entry *old = name ? find(reg, name) : NULL;
+    if (old && old->kind == ST_REAL && old->d == &old->own_d)
+        return &old->own_d;
+    stat_entry *e = add(reg, ST_REAL, name, unit, desc);
+    if (!e)
+        return NULL;
+    e->d = &e->own_d;
+    return &e->own_d;
+}
+
+int ks_stat_counter_ref(ks_stats *reg, const char *name, const char *unit, const char *desc,
+                        const uint64_t *value)
+{
+    if (!value) {
+        set_error(reg, "statistic '%s': no storage given", name ? name : "?");
+        return -1;
+    }
+    stat_entry *e = add(reg, ST_COUNTER, name, unit, desc);
+    if (!e)
+        return -1;
+    e->u = value;
+    return 0;
+}
+
+int ks_stat_real_ref(ks_stats *reg, const char *name, const char *unit, const char *desc,
+                     const double *value)
+{
+    if (!value) {
+        set_error(reg, "statistic '%s': no storage given", name ? name : "?");
+        return -1;
+    }
+    stat_entry *e = add(reg, ST_REAL, name, unit, desc);
+    if (!e)
+        return -1;
+    e->d = value;
+    return 0;
+}
+
+ks_histogram *ks_stat_histogram(ks_stats *reg, const char *name, const char *unit,
+                                const char *desc, double lo, double hi, unsigned bins)
+{
+    if (!(hi > lo) || bins == 0 || bins > (1u << 20) || !isfinite(lo) || !isfinite(hi)) {
+        set_error(reg, "histogram '%s': needs lo < hi (finite) and 1..1048576 bins (got [%g, %g), %u)",
+                  name ? name : "?", lo, hi, bins);
+        return NULL;
+    }
+    stat_entry *e = add(reg, ST_HIST, name, unit, desc);
+    if (!e)
+        return NULL;
+    ks_histogram *h = xrealloc(NULL, sizeof *h);
+    memset(h, 0, sizeof *h);
+    h->lo = lo;
+    h->hi = hi;
+    h->bins = bins;
+    h->width = (hi - lo) / bins;
+    h->counts = xrealloc(NULL, bins * sizeof *h->counts);
+    memset(h->counts, 0, bins * sizeof *h->counts);
+    e->h = h;
+    return h;
+}
+
+int ks_stat_formula(ks_stats *reg, const char *name, const char *unit, const char *desc,
+                    ks_formula_fn fn, void *user)
+{
+    if (!fn) {
+        set_error(reg, "formula '%s': no function given", name ? name : "?");
+        return -1;
+    }
+    stat_entry *e = add(reg, ST_FORMULA, name, unit, desc);
+    if (!e)
+        return -1;
+    e->fn = fn;
+    e->user = user;
+    return 0;
+}
+
+int ks_stat_ratio(ks_stats *reg, const char *name, const char *unit, const char *desc,
+                  const char *numerator, const char *denominator)
+{
+    if (!numerator || !denominator) {
+        set_error(reg, "ratio '%s': numerator and denominator names needed", name ? name : "?");
+        return -1;
+    }
+    stat_entry *e = add(reg, ST_RATIO, name, unit, desc);
+    if (!e)
+        return -1;
+    e->num = xstrdup(numerator);
+    e->den = xstrdup(denominator);
+    return 0;
+}
+
+void ks_histogram_add(ks_histogram *h, double v)
+{
+    if (!h)
+        return;
+    if (h->count == 0 || v < h->min)
+        h->min = v;
+    if (h->count == 0 || v > h->max)
+        h->max = v;
+    h->count++;
+    h->sum += v;
+    if (v < h->lo)
+        h->under++;
+    else if (v >= h->hi)
+        h->over++;
+    else {
+        unsigned b = (unsigned)((v - h->lo) / h->width);
+        if (b >= h->bins)
+            b = h->bins - 1;
+        h->counts[b]++;
+    }
+}
+
+uint64_t ks_histogram_count(const ks_histogram *h) { return h->count; }
+double ks_histogram_mean(const ks_histogram *h) { return h->count ? h->sum / (double)h->count : 0; }
+
+static double value_of(const ks_stats *reg, const stat_entry *e, int depth);
+
+static double by_name(const ks_stats *reg, const char *name, int depth)
+{
+    const stat_entry *e = find(reg, name);
+    return e ? value_of(reg, e, depth + 1) : NAN;
+}
+
+static double value_of(const ks_stats *reg, const stat_entry *e, int depth)
+{
+    if (depth > 32)
+        return NAN; /* a cycle of ratios */
+    switch (e->kind) {
+    case ST_COUNTER: return (double)*e->u;
+    case ST_REAL: return *e->d;
+    case ST_HIST: return ks_histogram_mean(e->h);
+    case ST_FORMULA: return e->fn(reg, e->user);
+    case ST_RATIO: {
+        double n = by_name(reg, e->num, depth), d = by_name(reg, e->den, depth);
+        if (isnan(n) || isnan(d))
+            return NAN;
+        return d == 0 ? 0 : n / d;
+    }
+    }
+    return NAN;
+}
+
+int ks_stats_value(const ks_stats *reg, const char *name, double *out)
+{
+    const stat_entry *e = find(reg, name);
+    if (!e)
+        return -1;
+    *out = value_of(reg, e, 0);
+    return 0;
+}
+
+/* ---- output ---- */
+
+static void json_str(FILE *o, const char *s)
+{
+    fputc('"', o);
+    for (; *s; s++) {
+        unsigned char c = (unsigned char)*s;
+        if (c == '"' || c == '\\')
+            fprintf(o, "\\%c", c);
+        else if (c < 32)
+            fprintf(o, "\\u%04x", c);
+        else
+            fputc(c, o);
+    }
+    fputc('"', o);
+}
+
+/* Shortest form that reads back to the same double. */
+static void fmt_real(char *buf, size_t cap, double v)
+{
+    for (int prec = 6; prec <= 17; prec++) {
+        snprintf(buf, cap, "%.*g", prec, v);
+        if (strtod(buf, NULL) == v)
+            return;
+    }
+}
+
+static void json_real(FILE *o, double v)
+{
+    if (!isfinite(v)) {
+        fputs("null", o);
+        return;
+    }
+    char b[40];
+    fmt_real(b, sizeof b, v);
+    fputs(b, o);
+}
+
+int ks_stats_write_json(const ks_stats *reg, FILE *o)
+{
+    fputs("{\n", o);
+    for (unsigned i = 0; i < reg->n; i++) {
+        const stat_entry *e = reg->e[i];
+        fputs("  ", o);
+        json_str(o, e->name);
+        fputs(": ", o);
+        if (e->kind == ST_COUNTER)
+            fprintf(o, "%llu", (unsigned long long)*e->u);
+        else if (e->kind == ST_HIST) {
+            const ks_histogram *h = e->h;
+            fprintf(o, "{\"count\": %llu, \"mean\": ", (unsigned long long)h->count);
+            json_real(o, ks_histogram_mean(h));
+            fputs(", \"min\": ", o);
+            json_real(o, h->count ? h->min : 0);
+            fputs(", \"max\": ", o);
+            json_real(o, h->count ? h->max : 0);
+            fputs(", \"lo\": ", o);
+            json_real(o, h->lo);
+            fputs(", \"hi\": ", o);
+            json_real(o, h->hi);
+            fprintf(o, ", \"underflow\": %llu, \"overflow\": %llu, \"bins\": [",
+                    (unsigned long long)h->under, (unsigned long long)h->over);
+            for (unsigned b = 0; b < h->bins; b++)
+                fprintf(o, "%s%llu", b ? ", " : "", (unsigned long long)h->counts[b]);
+            fputs("]}", o);
+        } else
+            json_real(o, value_of(reg, e, 0));
+        fputs(",\n", o);
+    }
+    fputs("  \"_units\": {", o);
+    for (unsigned i = 0; i < reg->n; i++) {
+        fputs(i ? ", " : "", o);
+        json_str(o, reg->e[i]->name);
+        fputs(": ", o);
+        json_str(o, reg->e[i]->unit);
+    }
+    fputs("},\n  \"_descriptions\": {", o);
+    for (unsigned i = 0; i < reg->n; i++) {
+        fputs(i ? ",\n    " : "\n    ", o);
+        json_str(o, reg->e[i]->name);
+        fputs(": ", o);
+        json_str(o, reg->e[i]->desc);
+    }
+    fputs(reg->n ? "\n  }\n}\n" : "}\n}\n", o);
+    return ferror(o) ? -1 : 0;
+}
+
+static void csv_field(FILE *o, const char *s)
+{
+    if (strpbrk(s, ",\"\n")) {
+        fputc('"', o);
+        for (; *s; s++) {
+            if (*s == '"')
+                fputc('"', o);
+            fputc(*s, o);
+        }
+        fputc('"', o);
+    } else
+        fputs(s, o);
+}
+
+int ks_stats_write_csv(const ks_stats *reg, FILE *o)
+{
+    fputs("name,value,unit,description\n", o);
+    char b[40];
+    for (unsigned i = 0; i < reg->n; i++) {
+        const stat_entry *e = reg->e[i];
+        fputs(e->name, o);
+        fputc(',', o);
+        if (e->kind == ST_COUNTER)
+            fprintf(o, "%llu", (unsigned long long)*e->u);
+        else {
+            double v = value_of(reg, e, 0);
+            if (isfinite(v)) {
+                fmt_real(b, sizeof b, v);
+                fputs(b, o);
+            }
+        }
+        fputc(',', o);
+        csv_field(o, e->unit);
+        fputc(',', o);
+        csv_field(o, e->desc);
+        fputc('\n', o);
+    }
+    return ferror(o) ? -1 : 0;
+}
+
+int ks_stats_write_summary(const ks_stats *reg, FILE *o)
+{
+    int wn = 4, wv = 5, wu = 4;
+    char (*vals)[48] = xrealloc(NULL, (reg->n + 1) * sizeof *vals);
+    for (unsigned i = 0; i < reg->n; i++) {
+        const stat_entry *e = reg->e[i];
+        if (e->kind == ST_COUNTER)
+            snprintf(vals[i], sizeof vals[i], "%llu", (unsigned long long)*e->u);
+        else if (e->kind == ST_HIST)
+            snprintf(vals[i], sizeof vals[i], "n=%llu mean=%.4g max=%.4g",
+                     (unsigned long long)e->h->count, ks_histogram_mean(e->h),
+                     e->h->count ? e->h->max : 0.0);
+        else
+            snprintf(vals[i], sizeof vals[i], "%.6g", value_of(reg, e, 0));
+        int l = (int)strlen(e->name);
+        if (l > wn)
+            wn = l;
+        l = (int)strlen(vals[i]);
+        if (l > wv)
+            wv = l;
+        l = (int)strlen(e->unit);
+        if (l > wu)
+            wu = l;
+    }
+    fprintf(o, "%-*s  %*s  %-*s  %s\n", wn, "name", wv, "value", wu, "unit", "description");
+    for (unsigned i = 0; i < reg->n; i++) {
+        const stat_entry *e = reg->e[i];
+        fprintf(o, "%-*s  %*s  %-*s  %s\n", wn, e->name, wv, vals[i], wu, e->unit, e->desc);
+    }
+    free(vals);
+    return ferror(o) ? -1 : 0;
+}

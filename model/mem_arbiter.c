@@ -46,7 +46,7 @@ static int step(void *user, uint64_t cycle)
             }
         }
         if (pick >= 0) {
-            mem_req r;
+            mem_req r = {0};
             ks_fifo_read(a->req_in[pick], &r);
             r.src = (uint16_t)(r.src * a->n + pick);
             ks_fifo_write(a->req_out, &r);
@@ -66,7 +66,7 @@ static int step(void *user, uint64_t cycle)
             abort(); /* wiring bug */
         }
         if (ks_fifo_can_write(out)) {
-            mem_resp r;
+            mem_resp r = {0};
             ks_fifo_read(a->resp_in, &r);
             r.src = (uint16_t)(r.src / a->n);
             ks_fifo_write(out, &r);

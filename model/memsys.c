@@ -5,20 +5,25 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "model/dram_energy.h"
+#include "model/dram_port.h"
+#include "model/dram_timing.h"
 #include "model/fixed_mem.h"
 #include "model/mem_arbiter.h"
+#include "model/mem_dram_adapter.h"
 
 #define MEMSYS_MAX_TRV 64
 #define MEMSYS_MAX_FIFOS (2 * MEMSYS_MAX_TRV + 16)
-/* In-flight requests the fixed memory accepts (ours: as many as all MSHRs of
- * the levels above could ever ask for, so it never throttles by count). */
-#define FIXED_MEM_OUTSTANDING 256
 
 struct memsys {
     int ntrv;
     cache_unit *l1[MEMSYS_MAX_TRV], *l2, *prim;
     mem_arbiter *l2_arb, *mem_arb;
     fixed_mem *fmem;
+    dram_spec *spec;              /* lpddr3: must outlive the run */
+    dram_power_spec *power;
+    dram_port *port;
+    mem_dram_adapter *adapter;
     memsys_model model;
     ks_fifo *fifo[MEMSYS_MAX_FIFOS];
     const char *fifo_key[MEMSYS_MAX_FIFOS];
@@ -112,7 +117,6 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
     FIFO(prim_fill, "prim.fill", "fifo.mem_prim_fill", mem_resp);
     FIFO(mem_req_f, "memory.req", "fifo.mem_req", mem_req);
     FIFO(mem_resp_f, "memory.resp", "fifo.mem_resp", mem_resp);
-#undef FIFO
     if (!(ms->l2_arb = mem_arbiter_create(sim, clk, "l2_arbiter", ntrv, l1_miss, l1_fill, l2_req, l2_resp, err, errlen)))
         goto fail;
     if (!(ms->l2 = cache_unit_create(sim, clk, "node_l2", &p2, err, errlen)))
@@ -125,16 +129,43 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
     if (!(ms->mem_arb = mem_arbiter_create(sim, clk, "mem_arbiter", 2, mem_in, mem_out, mem_req_f, mem_resp_f, err,
                                            errlen)))
         goto fail;
+    uint32_t outstanding = (uint32_t)rtcfg_int(cfg, "memory.max_outstanding");
     if (ms->model == MEMSYS_FIXED) {
         /* GB/s at the accelerator clock: bytes per cycle = GB/s * 1000 / MHz */
         double bpc = rtcfg_real(cfg, "memory.fixed_bandwidth_gbs") * 1000.0 / rtcfg_real(cfg, "machine.clock_mhz");
         if (!(ms->fmem = fixed_mem_create(sim, clk, "memory", (uint32_t)rtcfg_int(cfg, "memory.fixed_latency"), bpc,
-                                          FIXED_MEM_OUTSTANDING, mem_req_f, mem_resp_f, err, errlen)))
+                                          outstanding, mem_req_f, mem_resp_f, err, errlen)))
             goto fail;
     } else {
-        snprintf(err, errlen, "memory.model = lpddr3: the LPDDR3 port is not built into this version (use fixed)");
-        goto fail;
+        char path[1024], why[400];
+        const char *file = rtcfg_str(cfg, "memory.dram_config");
+        snprintf(path, sizeof path, "%s%s%s", strchr(file, '/') ? "" : rtcfg_data_dir(), strchr(file, '/') ? "" : "/",
+                 file);
+        ms->spec = calloc(1, sizeof *ms->spec);
+        if (!ms->spec || dram_spec_load(ms->spec, path, NULL, 0, why, sizeof why)) {
+            snprintf(err, errlen, "memory.dram_config = %s: %s", file, ms->spec ? why : "out of memory");
+            goto fail;
+        }
+        const char *pfile = rtcfg_str(cfg, "memory.dram_power");
+        if (*pfile) {
+            snprintf(path, sizeof path, "%s%s%s", strchr(pfile, '/') ? "" : rtcfg_data_dir(),
+                     strchr(pfile, '/') ? "" : "/", pfile);
+            ms->power = calloc(1, sizeof *ms->power);
+            if (!ms->power || dram_power_spec_load(ms->power, path, why, sizeof why)) {
+                snprintf(err, errlen, "memory.dram_power = %s: %s", pfile, ms->power ? why : "out of memory");
+                goto fail;
+            }
+        }
+        ks_fifo *dreq, *dresp;
+        FIFO(dreq, "dram.req", "fifo.mem_dram_req", dram_port_req);
+        FIFO(dresp, "dram.resp", "fifo.mem_dram_resp", dram_port_resp);
+        if (!(ms->adapter = mem_dram_adapter_create(sim, clk, "memory", outstanding, mem_req_f, mem_resp_f, dreq, dresp,
+                                                    err, errlen)))
+            goto fail;
+        if (!(ms->port = dram_port_create(sim, "dram", ms->spec, ms->power, dreq, dresp, stats, err, errlen)))
+            goto fail;
     }
+#undef FIFO
     if (stats) {
         int rc = 0;
         for (int i = 0; i < ntrv; i++) {
@@ -148,6 +179,8 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
         rc |= mem_arbiter_register_stats(ms->mem_arb, stats, "mem_arbiter");
         if (ms->fmem)
             rc |= fixed_mem_register_stats(ms->fmem, stats, "memory");
+        if (ms->adapter)
+            rc |= mem_dram_adapter_register_stats(ms->adapter, stats, "memory");
         rc |= ks_stat_formula(stats, "memory.bytes_total", "bytes", "bytes moved to/from main memory",
                               memory_bytes_fn, ms);
         if (rc) {
@@ -172,6 +205,10 @@ void memsys_destroy(memsys *ms)
     mem_arbiter_destroy(ms->l2_arb);
     mem_arbiter_destroy(ms->mem_arb);
     fixed_mem_destroy(ms->fmem);
+    mem_dram_adapter_destroy(ms->adapter);
+    dram_port_destroy(ms->port);
+    free(ms->spec);
+    free(ms->power);
     free(ms);
 }
 
@@ -198,8 +235,19 @@ cache_unit *memsys_unit(memsys *ms, const char *name)
 
 memsys_model memsys_memory_model(const memsys *ms) { return ms->model; }
 
-uint64_t memsys_memory_bytes(const memsys *ms) { return ms->fmem ? fixed_mem_bytes(ms->fmem) : 0; }
-uint64_t memsys_memory_requests(const memsys *ms) { return ms->fmem ? fixed_mem_requests(ms->fmem) : 0; }
+uint64_t memsys_memory_bytes(const memsys *ms)
+{
+    return ms->fmem ? fixed_mem_bytes(ms->fmem) : ms->adapter ? mem_dram_adapter_bytes(ms->adapter) : 0;
+}
+uint64_t memsys_memory_requests(const memsys *ms)
+{
+    return ms->fmem ? fixed_mem_requests(ms->fmem) : ms->adapter ? mem_dram_adapter_requests(ms->adapter) : 0;
+}
+uint64_t memsys_memory_latency_sum(const memsys *ms)
+{
+    return ms->fmem ? fixed_mem_latency_sum(ms->fmem) : ms->adapter ? mem_dram_adapter_latency_sum(ms->adapter) : 0;
+}
+dram_port *memsys_dram_port(memsys *ms) { return ms->port; }
 
 int memsys_fifo_count(const memsys *ms) { return ms->nfifo; }
 ks_fifo *memsys_fifo_at(const memsys *ms, int i, const char **key)
@@ -219,6 +267,8 @@ int memsys_busy(const memsys *ms)
     if (cache_unit_busy(ms->l2) || cache_unit_busy(ms->prim))
         return 1;
     if (ms->fmem && fixed_mem_busy(ms->fmem))
+        return 1;
+    if (ms->adapter && mem_dram_adapter_outstanding(ms->adapter))
         return 1;
     for (int i = 0; i < ms->nfifo; i++)
         if (ks_fifo_occupancy(ms->fifo[i]))

@@ -8,8 +8,9 @@
  *  - memsys_build creates (on the given sim and accelerator clock) one node L1
  *    per TRV ([node_l1]), the shared node L2 ([node_l2]), the primitive cache
  *    ([prim], two banks interleaved by line), the round-robin arbiters, the
- *    memory (memory.model: fixed = fixed_mem; lpddr3 = the DRAM port, when
- *    available) and every FIFO between them (depths from [fifo] mem_* keys,
+ *    memory (memory.model: fixed = fixed_mem, a latency and a bandwidth;
+ *    lpddr3 = mem_dram_adapter + dram_port, the command-level LPDDR3-1600
+ *    model on its own 800 MHz clock) and every FIFO between them (depths from [fifo] mem_* keys,
  *    latency fifo.mem_latency). cfg must have the memsys schemas registered
  *    (memsys_add_schemas) and be finished. Statistics are registered in
  *    `stats` when not NULL.
@@ -57,6 +58,10 @@ memsys_model memsys_memory_model(const memsys *ms);
 /* Bytes read from / written to main memory so far. */
 uint64_t memsys_memory_bytes(const memsys *ms);
 uint64_t memsys_memory_requests(const memsys *ms);
+/* Sum over requests of the cycles from reaching the memory to the response. */
+uint64_t memsys_memory_latency_sum(const memsys *ms);
+/* The LPDDR3 port (statistics "dram.*", its own 800 MHz clock), NULL when fixed. */
+struct dram_port *memsys_dram_port(memsys *ms);
 
 int memsys_fifo_count(const memsys *ms);
 ks_fifo *memsys_fifo_at(const memsys *ms, int i, const char **config_key);

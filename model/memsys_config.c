@@ -30,13 +30,14 @@ const rtcfg_schema memsys_schema_node_l2 = {"node_l2", "node L2 cache shared by 
 const rtcfg_schema memsys_schema_prim = {"prim", "primitive (triangle) cache of the IST", prim_params, 8, NULL};
 
 static const rtcfg_param memory_params[] = {
-    {"model", RTCFG_ENUM, "fixed", 0, 0, 0, "fixed|lpddr3", "", "main memory: fixed latency+bandwidth or LPDDR3"},
+    {"model", RTCFG_ENUM, "lpddr3", 0, 0, 0, "fixed|lpddr3", "", "main memory: fixed latency+bandwidth or LPDDR3"},
     {"fixed_latency", RTCFG_INT, "50", 1, 100000, 0, NULL, "cycles", "fixed model: request to data, accel cycles"},
     {"fixed_bandwidth_gbs", RTCFG_REAL, "12.8", 0, 10000, 0, NULL, "GB/s", "fixed model: peak bandwidth (0 = unlimited)"},
     {"dram_config", RTCFG_STRING, "lpddr3_1600.ini", 0, 0, 0, NULL, "", "lpddr3: spec file (relative: in model/data)"},
-    {"dram_clock_mhz", RTCFG_REAL, "800", 1, 10000, 0, NULL, "MHz", "lpddr3: DRAM command clock"},
+    {"dram_power", RTCFG_STRING, "lpddr3_1600_idd.ini", 0, 0, 0, NULL, "", "lpddr3: currents for energy (empty: none)"},
+    {"max_outstanding", RTCFG_INT, "256", 1, 65536, 0, NULL, "requests", "requests in flight at the memory"},
 };
-const rtcfg_schema memsys_schema_memory = {"memory", "main memory", memory_params, 5, NULL};
+const rtcfg_schema memsys_schema_memory = {"memory", "main memory", memory_params, 6, NULL};
 
 #define FIFO_PARAM(name, desc) {name, RTCFG_INT, "32", 1, 65536, 0, NULL, "entries", desc}
 static const rtcfg_param fifo_params[] = {
@@ -50,9 +51,11 @@ static const rtcfg_param fifo_params[] = {
     FIFO_PARAM("mem_prim_fill", "memory arbiter -> primitive cache"),
     FIFO_PARAM("mem_req", "memory arbiter -> memory"),
     FIFO_PARAM("mem_resp", "memory -> memory arbiter"),
+    FIFO_PARAM("mem_dram_req", "lpddr3: DRAM front end -> LPDDR3 port"),
+    FIFO_PARAM("mem_dram_resp", "lpddr3: LPDDR3 port -> DRAM front end"),
     {"mem_latency", RTCFG_INT, "1", 1, 1000, 0, NULL, "cycles", "latency of every memory-side FIFO"},
 };
-const rtcfg_schema memsys_schema_fifo = {"fifo", "memory-side FIFOs", fifo_params, 11, NULL};
+const rtcfg_schema memsys_schema_fifo = {"fifo", "memory-side FIFOs", fifo_params, 13, NULL};
 
 int memsys_add_schemas(rtcfg *cfg, char *err, size_t errlen)
 {

@@ -109,8 +109,9 @@ static void test_overrides(void)
              rtcfg_source(c, "node_l1.ways"));
     TB_CHECK(strcmp(rtcfg_source(c, "prim.mshr_merge"), "default") != 0, "prim.mshr_merge from the preset");
     /* set after registration; enum, bool-free, real, int forms */
-    TB_EQ_INT(rtcfg_set(c, "memory.model=lpddr3", err, sizeof err), 0);
-    TB_EQ_INT(rtcfg_enum(c, "memory.model"), MEMSYS_LPDDR3);
+    TB_EQ_INT(rtcfg_enum(c, "memory.model"), MEMSYS_LPDDR3);   /* the presets' memory */
+    TB_EQ_INT(rtcfg_set(c, "memory.model=fixed", err, sizeof err), 0);
+    TB_EQ_INT(rtcfg_enum(c, "memory.model"), MEMSYS_FIXED);
     TB_EQ_INT(rtcfg_set(c, "memory.fixed_bandwidth_gbs=6.4", err, sizeof err), 0);
     TB_CHECK(rtcfg_real(c, "memory.fixed_bandwidth_gbs") == 6.4, "real");
     TB_EQ_INT(rtcfg_set(c, "fifo.mem_req=0x40", err, sizeof err), 0);

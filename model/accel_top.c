@@ -244,6 +244,38 @@ static void finish_stats(accel_top *t)
     t->stat_in_flight = sched_mean_in_flight(&t->sched, t->cycles);
 }
 
+/* Appends one line per busy unit and its cache to err (watchdog report). */
+static void describe_units(accel_top *t, uint64_t now, char *err, size_t errlen, int n)
+{
+    char line[512];
+    for (uint32_t i = 0; i < t->p.trv_count && n >= 0 && (size_t)n < errlen; i++) {
+        if (!t->trv[i].rays_in_unit)
+            continue;
+        cache_describe(memsys_node_l1(t->mem, (int)i), (int64_t)now, line, sizeof line);
+        n += snprintf(err + n, errlen - (size_t)n, "\n  trv%u: %llu rays held; node L1: %s", i,
+                      (unsigned long long)t->trv[i].rays_in_unit, line);
+        for (uint32_t k = 0; k < t->p.trv.core.slots && (size_t)n < errlen; k++) {
+            const accel_ray *r = &t->rays[i * t->p.trv.core.slots + k];
+            bool held = false;
+            for (uint32_t j = 0; j < t->sched.nfree[i]; j++)
+                held |= t->sched.free_slots[(size_t)i * t->sched.slots + j] == k;
+            if (held)
+                continue;   /* a free slot */
+            n += snprintf(err + n, errlen - (size_t)n, "\n    ray %u (pixel %u bounce %u): phase %d target %u/%u, %u loops",
+                          r->uid, r->pixel, r->bounce, r->phase, r->target_ref, r->target_meta, r->loops);
+        }
+    }
+    if (t->ist.rays_in_unit && n >= 0 && (size_t)n < errlen) {
+        cache_describe(memsys_prim(t->mem), (int64_t)now, line, sizeof line);
+        n += snprintf(err + n, errlen - (size_t)n, "\n  ist: %llu rays held; primitive cache: %s",
+                      (unsigned long long)t->ist.rays_in_unit, line);
+    }
+    if (n >= 0 && (size_t)n < errlen) {
+        cache_describe(memsys_node_l2(t->mem), (int64_t)now, line, sizeof line);
+        snprintf(err + n, errlen - (size_t)n, "\n  node L2: %s", line);
+    }
+}
+
 int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *err, size_t errlen)
 {
     ks_time period = ks_clock_period(t->clk);
@@ -272,10 +304,12 @@ int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *er
         }
         if (t->p.sched.watchdog_cycles && t->sched.in_flight &&
             now_cycle > t->sched.last_complete_cycle + t->p.sched.watchdog_cycles) {
-            snprintf(err, errlen,
-                     "no ray completed for %llu cycles (sched.watchdog_cycles) at cycle %llu with %llu rays in flight",
-                     (unsigned long long)t->p.sched.watchdog_cycles, (unsigned long long)now_cycle,
-                     (unsigned long long)t->sched.in_flight);
+            int n = snprintf(err, errlen,
+                             "no ray completed for %llu cycles (sched.watchdog_cycles) at cycle %llu with %llu rays in "
+                             "flight (livelock: rays keep looping):",
+                             (unsigned long long)t->p.sched.watchdog_cycles, (unsigned long long)now_cycle,
+                             (unsigned long long)t->sched.in_flight);
+            describe_units(t, now_cycle, err, errlen, n);
             rc = 1;
             break;
         }

@@ -175,6 +175,13 @@ static int write_json(ks_stats *st, const char *path, char *err, size_t errlen)
     return 0;
 }
 
+/* Bad usage inside main: free the --set list, print, exit 2. */
+#define USAGE_ERR(...)                                                                                                 \
+    do {                                                                                                               \
+        free(sets);                                                                                                    \
+        return bad(__VA_ARGS__);                                                                                       \
+    } while (0)
+
 int main(int argc, char **argv)
 {
     const char *scene_name = "interior", *view_name = NULL, *views_file = NULL, *machine = "mbvh4";
@@ -212,16 +219,16 @@ int main(int argc, char **argv)
             else if (!strcmp(optarg, "diffuse"))
                 diffuse = true;
             else
-                return bad("--rays %s: allowed values are primary, diffuse%s", optarg, "");
+                USAGE_ERR("--rays %s: allowed values are primary, diffuse%s", optarg, "");
             break;
         case O_RES: res = optarg; break;
         case O_BOUNCES:
             if (!parse_u64(optarg, 0, 64, &bounces))
-                return bad("--bounces %s: allowed range 0..64%s", optarg, "");
+                USAGE_ERR("--bounces %s: allowed range 0..64%s", optarg, "");
             break;
         case O_SEED:
             if (!parse_u64(optarg, 0, UINT64_MAX, &seed))
-                return bad("--seed %s: expected a non-negative integer%s", optarg, "");
+                USAGE_ERR("--seed %s: expected a non-negative integer%s", optarg, "");
             break;
         case O_SET: sets[nsets++] = optarg; break;
         case O_JSON: json = optarg; break;
@@ -229,12 +236,12 @@ int main(int argc, char **argv)
         case O_VCDW: {
             char a[32] = "", *colon = strchr(optarg, ':');
             if (!colon || (size_t)(colon - optarg) >= sizeof a)
-                return bad("--vcd-window %s: expected A:B (cycles, A < B)%s", optarg, "");
+                USAGE_ERR("--vcd-window %s: expected A:B (cycles, A < B)%s", optarg, "");
             memcpy(a, optarg, (size_t)(colon - optarg));
             a[colon - optarg] = 0;
             if (!parse_u64(a, 0, UINT64_MAX / 4, &vcd_a) || !parse_u64(colon + 1, 1, UINT64_MAX / 4, &vcd_b) ||
                 vcd_b <= vcd_a)
-                return bad("--vcd-window %s: expected A:B (cycles, A < B)%s", optarg, "");
+                USAGE_ERR("--vcd-window %s: expected A:B (cycles, A < B)%s", optarg, "");
             break;
         }
         case O_VCDF: vcd_filter = optarg; break;
@@ -258,12 +265,10 @@ int main(int argc, char **argv)
     if (optind < argc)
         scene_name = argv[optind++];
     if (optind < argc) {
-        free(sets);
-        return bad("unexpected argument %s (one SCENE only)%s", argv[optind], "");
+        USAGE_ERR("unexpected argument %s (one SCENE only)%s", argv[optind], "");
     }
     if (heatmap && !rt_image_format_supported(heatmap)) {
-        free(sets);
-        return bad("--heatmap %s: the file must end in .png or .exr%s", heatmap, "");
+        USAGE_ERR("--heatmap %s: the file must end in .png or .exr%s", heatmap, "");
     }
 
     char err[8192];

@@ -327,6 +327,7 @@ static void test_trv_ist_tiny(void)
     accel_ray r;
     accel_ray_in in = {{0, 0, 0}, {1, 0, 0}, 0.0f, 1e30f, 7, 0};
     accel_ray_start(&r, &in, 0);
+    r.slot = 0;
     int loops;
     run_ray(&trv, &ist, &r, &loops);
     TB_CHECK(nc.n >= 6 && nc.kind[5] == ACCEL_EV_POP && nc.a[5] == 1, "pop node 1 instead of cull");

@@ -51,7 +51,10 @@ static inline uint64_t pipe_ring_next_exit(const pipe_ring *p)
 }
 static inline void pipe_ring_push(pipe_ring *p, uint32_t ray, uint32_t result, uint64_t cycle)
 {
-    pipe_item *it = &p->items[(p->head + p->count) % p->cap];
+    uint32_t i = p->head + p->count;   /* no division: this runs every cycle */
+    if (i >= p->cap)
+        i -= p->cap;
+    pipe_item *it = &p->items[i];
     it->ray = ray;
     it->result = result;
     it->exit_cycle = cycle + p->latency;
@@ -63,7 +66,8 @@ static inline void pipe_ring_push(pipe_ring *p, uint32_t ray, uint32_t result, u
 static inline pipe_item pipe_ring_pop(pipe_ring *p)
 {
     pipe_item it = p->items[p->head];
-    p->head = (p->head + 1) % p->cap;
+    if (++p->head == p->cap)
+        p->head = 0;
     p->count--;
     if (p->v_occ)
         ks_vcd_set(p->v_occ, p->count);

@@ -16,6 +16,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <string.h>
 
 #define SORT_NET_MAX_LANES 8
 #define SORT_NET_MAX_CMPS 19
@@ -67,6 +68,38 @@ static inline int sort_net_apply(const sort_net *net, sort_key *keys)
             *b = tmp;
             swaps++;
         }
+    }
+    return swaps;
+}
+
+/* The same order as one unsigned 64-bit key per lane, for a branchless
+ * network (min/max compile to conditional moves): bit 40 = missed, bits
+ * 8..39 = tnear mapped to an order-preserving unsigned integer (-0 taken as
+ * +0, so equal distances tie as in the reference), bits 0..7 = slot. */
+static inline uint64_t sort_key_pack(float tnear, unsigned slot, bool hit)
+{
+    if (!hit)
+        return ((uint64_t)1 << 40) | slot;
+    if (tnear == 0.0f)
+        tnear = 0.0f;
+    uint32_t u;
+    memcpy(&u, &tnear, sizeof u);
+    u = (u & 0x80000000u) ? ~u : (u | 0x80000000u);
+    return ((uint64_t)u << 8) | slot;
+}
+static inline unsigned sort_key_slot(uint64_t k) { return (unsigned)(k & 0xFF); }
+static inline bool sort_key_hit(uint64_t k) { return !(k >> 40); }
+
+/* sort_net_apply on packed keys, branch-free; returns the swaps made. */
+static inline int sort_net_apply_packed(const sort_net *net, uint64_t *keys)
+{
+    int swaps = 0;
+    for (int i = 0; i < net->ncmps; i++) {
+        uint64_t a = keys[net->cmp[i].lo], b = keys[net->cmp[i].hi];
+        int sw = b < a;
+        keys[net->cmp[i].lo] = sw ? b : a;
+        keys[net->cmp[i].hi] = sw ? a : b;
+        swaps += sw;
     }
     return swaps;
 }

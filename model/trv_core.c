@@ -2,6 +2,7 @@
 #include "model/trv_core.h"
 
 #include <stdio.h>
+#include <string.h>
 
 bool trv_core_init(trv_core *c, const trv_core_params *p, const accel_image *img, accel_probe_fn probe,
                    void *probe_ctx, char *err, unsigned errlen)
@@ -103,27 +104,28 @@ trv_pass_result trv_core_pass(trv_core *c, accel_ray *r, uint64_t now, uint32_t 
 
     const uint8_t *node = img->bytes + addr;
     const int n = c->p.width;
-    sort_key keys[SORT_NET_MAX_LANES];
-    rt_child ch[SORT_NET_MAX_LANES];
+    uint64_t keys[SORT_NET_MAX_LANES];
+    float tnear[SORT_NET_MAX_LANES];
     int hits = 0;
     for (int i = 0; i < n; i++) {
-        rt_node_child(node, i, &ch[i]);
-        keys[i].slot = (uint8_t)i;
-        keys[i].hit = 0;
-        keys[i].tnear = 0.0f;
-        if (rt_child_empty(&ch[i]))
-            continue;
-        c->st.box_tests++;
-        float tn;
-        if (rt_slab_test(&r->prep, ch[i].lo, ch[i].hi, r->tmin, r->closest, &tn)) {
-            keys[i].hit = 1;
-            keys[i].tnear = tn;
-            hits++;
+        const uint8_t *slot = node + (size_t)i * RT_SLOT_BYTES;
+        uint32_t meta;
+        memcpy(&meta, slot + 28, sizeof meta);
+        float lohi[6];
+        memcpy(lohi, slot, sizeof lohi);
+        float tn = 0.0f;
+        bool hit = false;
+        if (!(meta & RT_META_EMPTY)) {
+            c->st.box_tests++;
+            hit = rt_slab_test(&r->prep, lohi, lohi + 3, r->tmin, r->closest, &tn);
         }
+        tnear[i] = tn;
+        keys[i] = sort_key_pack(tn, (unsigned)i, hit);
+        hits += hit;
     }
     c->st.box_lanes += (uint64_t)n;
     c->st.sort_passes++;
-    c->st.sort_swaps += (uint64_t)sort_net_apply(c->net, keys);
+    c->st.sort_swaps += (uint64_t)sort_net_apply_packed(c->net, keys);
     if (hits == 0)
         return pop_next(c, r, stack_cycles);
 
@@ -131,10 +133,12 @@ trv_pass_result trv_core_pass(trv_core *c, accel_ray *r, uint64_t now, uint32_t 
     trv_stack_entry push[SORT_NET_MAX_LANES];
     uint32_t k = 0;
     for (int i = hits - 1; i >= 1; i--) {
-        const rt_child *chi = &ch[keys[i].slot];
-        push[k].ref = chi->ref;
-        push[k].meta = chi->meta;
-        push[k].tnear = keys[i].tnear;
+        unsigned sl = sort_key_slot(keys[i]);
+        rt_child chi;
+        rt_node_child(node, (int)sl, &chi);
+        push[k].ref = chi.ref;
+        push[k].meta = chi.meta & RT_META_COUNT_MASK;
+        push[k].tnear = tnear[sl];
         k++;
     }
     if (k) {
@@ -148,6 +152,7 @@ trv_pass_result trv_core_pass(trv_core *c, accel_ray *r, uint64_t now, uint32_t 
             emit(c, r, ACCEL_EV_PUSH, push[i].ref, push[i].meta, push[i].tnear);
         *stack_cycles = (uint32_t)cyc;
     }
-    const rt_child *near = &ch[keys[0].slot];
-    return take_target(c, r, near->ref, near->meta);
+    rt_child near;
+    rt_node_child(node, (int)sort_key_slot(keys[0]), &near);
+    return take_target(c, r, near.ref, near.meta & RT_META_COUNT_MASK);
 }

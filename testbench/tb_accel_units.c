@@ -74,7 +74,7 @@ static void test_sort_four_with_ties(void)
 {
     tb_begin("sort_net_4_all_orderings_with_ties");
     const sort_net *net = sort_net_get(4);
-    static const float vals[4] = {-0.0f, 0.0f, 1.5f, 1.5e30f};
+    static const float vals[4] = {-0.0f, 0.0f, 1.5f, 1.5e30f};   /* ties, signed zeros, extremes */
     long cases = 0;
     /* every assignment of 4 values (ties included, -0 == +0) x every hit mask */
     for (int code = 0; code < 256; code++) {
@@ -87,6 +87,14 @@ static void test_sort_four_with_ties(void)
             }
             memcpy(want, k, sizeof k);
             qsort(want, 4, sizeof want[0], ref_cmp);
+            uint64_t packed[4];
+            for (int i = 0; i < 4; i++)
+                packed[i] = sort_key_pack(k[i].tnear, k[i].slot, k[i].hit);
+            sort_net_apply_packed(net, packed);
+            for (int i = 0; i < 4; i++)
+                TB_CHECK(sort_key_slot(packed[i]) == want[i].slot && sort_key_hit(packed[i]) == (want[i].hit != 0),
+                         "packed: code %d mask %x lane %d: slot %u, want %d", code, mask, i, sort_key_slot(packed[i]),
+                         want[i].slot);
             sort_net_apply(net, k);
             for (int i = 0; i < 4; i++)
                 TB_CHECK(k[i].slot == want[i].slot, "code %d mask %x lane %d: slot %d, want %d", code, mask, i,

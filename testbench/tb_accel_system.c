@@ -291,6 +291,85 @@ static uint64_t run_frame(const rt_scene *sc, const char *preset, const char *co
     return cycles;
 }
 
+/* Runs a frame, returns cycles and the named statistics (0 when absent). */
+static uint64_t run_stats(const rt_scene *sc, const char *const *sets, const char *const *names, double *vals, int n,
+                          char *err, size_t errlen)
+{
+    rtcfg *cfg = machine_cfg("mbvh4", sets, err, errlen);
+    if (!cfg)
+        return 0;
+    rt_bvh_params bp;
+    rt_bvh_params_default(&bp);
+    bp.width = (int)rtcfg_int(cfg, "machine.branching");
+    rt_bvh_image img;
+    uint64_t cycles = 0;
+    rtsim_frame fr;
+    memset(&fr, 0, sizeof fr);
+    if (rt_bvh_build(&sc->mesh, &bp, &img, NULL, err, errlen)) {
+        accel_source src;
+        if (rtsim_frame_init(&fr, &sc->mesh, &sc->views.v[0], 64, 36, false, 4, 1, false, &src, err, errlen)) {
+            accel_image aimg = rtsim_image(&img);
+            accel_top *top = accel_top_create(cfg, &aimg, &src, NULL, err, errlen);
+            if (top && accel_top_run(top, NULL, NULL, err, errlen) == 0) {
+                cycles = accel_top_cycles(top);
+                /* each name is summed over the TRVs when it starts with "trv." */
+                for (int i = 0; i < n; i++) {
+                    vals[i] = 0;
+                    for (int k = 0; k < 64; k++) {
+                        char nm[128];
+                        double v;
+                        if (strncmp(names[i], "trv.", 4))
+                            snprintf(nm, sizeof nm, "%s", names[i]);
+                        else
+                            snprintf(nm, sizeof nm, "trv%d.%s", k, names[i] + 4);
+                        if (ks_stats_value(accel_top_stats(top), nm, &v))
+                            break;
+                        vals[i] += v;
+                        if (strncmp(names[i], "trv.", 4))
+                            break;
+                    }
+                }
+            }
+            accel_top_destroy(top);
+        }
+        rt_bvh_image_free(&img);
+    }
+    rtsim_frame_free(&fr);
+    rtcfg_destroy(cfg);
+    return cycles;
+}
+
+static void test_banks_and_looping(const rt_scene *sc)
+{
+    char err[4096];
+    static const char *const names[] = {"trv.stack_conflict_cycles", "trv.loops_miss", "trv.visits", "ist.loops_miss"};
+    double base[4] = {0}, one[4] = {0};
+    tb_begin("system_stack_bank_conflicts");
+    static const char *const fixed[] = {"memory.model=fixed", NULL};
+    static const char *const onebank[] = {"memory.model=fixed", "trv.stack_banks=1", NULL};
+    uint64_t c_base = run_stats(sc, fixed, names, base, 4, err, sizeof err);
+    uint64_t c_one = run_stats(sc, onebank, names, one, 4, err, sizeof err);
+    TB_CHECK(c_base > 0 && c_one > 0, "runs: %s", err);
+    /* with N-1 = 3 banks only pops that cull several entries conflict */
+    TB_CHECK(one[0] > 4 * base[0], "1 bank: many more conflict cycles (%g vs %g)", one[0], base[0]);
+    TB_CHECK(c_one > c_base, "conflicts cost cycles (%llu vs %llu)", (unsigned long long)c_one, (unsigned long long)c_base);
+    TB_CHECK(one[2] == base[2], "same visits (%g vs %g)", one[2], base[2]);
+    tb_end();
+
+    tb_begin("system_looping_for_next_chance");
+    /* cold caches and a slow memory: rays miss and loop; each loop costs a
+     * pass but the committed work (visits) is unchanged */
+    static const char *const slow[] = {"memory.model=fixed", "memory.fixed_latency=400", NULL};
+    double sl[4] = {0};
+    uint64_t c_slow = run_stats(sc, slow, names, sl, 4, err, sizeof err);
+    TB_CHECK(c_slow > c_base, "slower memory, more cycles (%llu vs %llu): %s", (unsigned long long)c_slow,
+             (unsigned long long)c_base, err);
+    TB_CHECK(base[1] > 0 && base[3] > 0, "TRV and IST loop on misses (%g, %g)", base[1], base[3]);
+    TB_CHECK(sl[1] > base[1], "more TRV loops with a slower memory (%g vs %g)", sl[1], base[1]);
+    TB_CHECK(sl[2] == base[2], "same committed visits (%g vs %g)", sl[2], base[2]);
+    tb_end();
+}
+
 static void test_determinism_and_deadlock(const rt_scene *sc)
 {
     char err[8192];
@@ -344,8 +423,10 @@ int main(void)
         }
         /* and the default LPDDR3 memory on one case per scene */
         check_case(&sc, "mbvh4", "lpddr3", true, small ? 8 : 48, small ? 5 : 27, &tot);
-        if (i == 0)
+        if (i == 0) {
             test_determinism_and_deadlock(&sc);
+            test_banks_and_looping(&sc);
+        }
         rt_scene_free(&sc);
     }
     printf("INFO total: %llu rays compared, %llu events, %llu hit mismatches, %llu event-sequence mismatches\n",

@@ -9,7 +9,10 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "model/ist.h"
 #include "model/ist_core.h"
+#include "model/scheduler.h"
+#include "model/trv.h"
 #include "model/sort_net.h"
 #include "model/trv_core.h"
 #include "model/trv_stack.h"
@@ -350,11 +353,32 @@ static void test_trv_ist_tiny(void)
     tb_end();
 }
 
+static void test_module_tables(void)
+{
+    tb_begin("module_description_tables_valid");
+    const ks_module_desc *descs[] = {&trv_module_desc, &ist_module_desc, &sched_module_desc};
+    char err[300];
+    for (int i = 0; i < 3; i++) {
+        TB_CHECK(ks_module_desc_check(descs[i], err, sizeof err) == 0, "%s", err);
+        TB_CHECK(ks_module_desc_count(descs[i], KS_DESC_PARAM) > 0 && ks_module_desc_count(descs[i], KS_DESC_PORT) > 0 &&
+                     ks_module_desc_count(descs[i], KS_DESC_STAT) > 0,
+                 "%s documents parameters, ports and statistics", descs[i]->name);
+    }
+    TB_CHECK(ks_module_desc_find(&trv_module_desc, KS_DESC_PARAM, "trv.stack_depth") != NULL, "trv.stack_depth documented");
+    /* depth: fetch 1 + box 3 + sort layers + stack 1 + next 1; MBVH4 is 2 deeper than BVH2 (paper 3.1) */
+    trv_params p = {{2, false, 32, 64, 1}, 1, 3, 1, 1, 12};
+    uint32_t d2 = trv_pipeline_depth(&p);
+    p.core.width = 4;
+    TB_EQ_INT(trv_pipeline_depth(&p), d2 + 2);
+    tb_end();
+}
+
 int main(void)
 {
     test_sort_zero_one();
     test_sort_four_with_ties();
     test_stack_banks();
     test_trv_ist_tiny();
+    test_module_tables();
     return tb_finish();
 }

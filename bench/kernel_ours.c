@@ -81,18 +81,26 @@ typedef struct stage {
     uint64_t moved;
 } stage;
 
+/* In place: the item moves from the input slot to the output slot with one
+ * copy (ks_fifo_peek / ks_fifo_write_slot / ks_fifo_commit / ks_fifo_pop);
+ * sc_fifo has no such interface, so the SystemC twin copies in and out. */
 static int stage_step(void *u, uint64_t cycle)
 {
     (void)cycle;
     stage *s = u;
-    if (!ks_fifo_can_read(s->in) || !ks_fifo_can_write(s->out))
+    const item *in = ks_fifo_peek(s->in);
+    if (!in)
         return 0;
-    item it;
-    KS_FIFO_READ(s->in, &it);
-    it.hops++;
-    it.payload[0] += it.hops;
-    KS_FIFO_WRITE(s->out, &it);
-    ks_vcd_set(s->id_var, it.id);
+    item *out = ks_fifo_write_slot(s->out);
+    if (!out)
+        return 0;
+    *out = *in;
+    out->hops++;
+    out->payload[0] += out->hops;
+    uint32_t id = out->id;
+    ks_fifo_commit(s->out);
+    ks_fifo_pop(s->in);
+    ks_vcd_set(s->id_var, id);
     s->moved++;
     return 1;
 }
@@ -133,7 +141,9 @@ static uint64_t run_ring(uint64_t cycles, const char *vcd_path)
             item it = {(uint32_t)(i * 2 + k), 0, {0, 0, 0}};
             ks_fifo_write(f[i], &it);
         }
-    ks_sim_run(sim, (ks_time)cycles * ks_clock_period(clk) - 1);
+    /* items preloaded at time 0 are ready at cycle 1: cycles 1..N move items, as
+     * in the SystemC twin (whose stages preload at cycle 0) */
+    ks_sim_run(sim, (ks_time)(cycles + 1) * ks_clock_period(clk) - 1);
     uint64_t sum = 0;
     for (int i = 0; i < STAGES; i++)
         sum += st[i].moved;

@@ -45,7 +45,8 @@ uint64_t ks_event_trigger_count(const ks_event *ev) { return ev->notify_count; }
 
 void ks_event_notify(ks_event *ev)
 {
-    ks__wake_clocked_next(ev);
+    if (ev->n_clocked)
+        ks__wake_clocked_next(ev);
     ev->pending = KS_PEND_NONE;
     ks__event_trigger(ev);
 }
@@ -67,7 +68,29 @@ void ks__event_notify_at_methods(ks_event *ev, ks_time when)
     ev->pending = KS_PEND_TIMED;
     ev->pending_time = when;
     ev->pending_key = ks__next_key(sim, KS_K_EVENT);
+    ev->queued = 1;
     ks__heap_push(sim, when, ev->pending_key, ev);
+}
+
+void ks__event_queue_pending(ks_event *ev)
+{
+    if (ev->on_wait) {
+        ev->on_wait(ev, ev->on_wait_ctx);
+        return;
+    }
+    if (ev->queued || ev->pending == KS_PEND_NONE)
+        return;
+    if (!ks__pending_live(ev)) {
+        ev->pending = KS_PEND_NONE;
+        return;
+    }
+    ev->queued = 1;
+    if (ev->pending == KS_PEND_DELTA) {
+        ks__delta_push(ev->sim, ev, 0);
+    } else {
+        ev->pending_key = ks__next_key(ev->sim, KS_K_EVENT);
+        ks__heap_push(ev->sim, ev->pending_time, ev->pending_key, ev);
+    }
 }
 
 void ks_event_notify_at(ks_event *ev, ks_time when)

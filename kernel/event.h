@@ -14,9 +14,9 @@
  *    process.h) and clocked processes (ks_clocked_wake_on, clock.h), which are
  *    woken at the first clock edge at or after the notification time (strictly
  *    after `now` for immediate/delta notifications), without any per-cycle
- *    cost. Notifying an event with no method waiters is cheap (no queue
- *    entry); unlike SystemC, a next-trigger registered after such a
- *    notification does not see it.
+ *    cost. Notifying an event with no method waiters is cheap: the pending
+ *    notification is only recorded, and queued when a method starts waiting
+ *    on the event before it is due (so SystemC semantics hold).
  * The fields are private to the kernel. */
 #ifndef KS_EVENT_H
 #define KS_EVENT_H
@@ -42,6 +42,14 @@ typedef struct ks_event {
     uint8_t pending;                /* 0 none, 1 delta, 2 timed */
     uint8_t has_methods;            /* n_statics || dyn_head */
     uint8_t any_waiters;            /* has_methods || n_clocked */
+    uint8_t queued;                 /* the pending notification has a queue entry */
+    uint64_t pending_delta;         /* delta count when delta-notified */
+    /* Channel events (FIFOs) do not record notifications nobody waits for;
+     * instead on_wait re-derives them from the channel's state when a
+     * method starts waiting on the event. */
+    uint8_t no_record;
+    void (*on_wait)(struct ks_event *ev, void *ctx);
+    void *on_wait_ctx;
     uint64_t notify_count;          /* times it triggered (statistics, tests) */
 } ks_event;
 

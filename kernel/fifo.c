@@ -6,6 +6,34 @@
 
 #include "kernel/sim_internal.h"
 
+/* A method starts waiting on a FIFO event: notify it as the channel's state
+ * says (an item readable from now: next delta; the first item not ready
+ * yet: at its ready time; free space: next delta). Such a trigger may be
+ * spurious, never missing. */
+static void written_on_wait(ks_event *ev, void *ctx)
+{
+    ks_fifo *f = ctx;
+    ks_time now = *f->now;
+    for (uint32_t k = 0; k < f->count; k++) {
+        uint32_t i = (f->head + k) % f->capacity;
+        if (f->ready[i] == now) {
+            ks_event_notify_delta(ev);
+            return;
+        }
+        if (f->ready[i] > now) {
+            ks_event_notify_at(ev, f->ready[i]);
+            return;
+        }
+    }
+}
+
+static void freed_on_wait(ks_event *ev, void *ctx)
+{
+    ks_fifo *f = ctx;
+    if (f->count < f->capacity && f->reads)
+        ks_event_notify_delta(ev);
+}
+
 ks_fifo *ks_fifo_create(ks_sim *sim, const char *name, size_t elem_size, uint32_t capacity,
                         uint32_t latency_cycles, ks_clock *clock)
 {
@@ -40,6 +68,11 @@ ks_fifo *ks_fifo_create(ks_sim *sim, const char *name, size_t elem_size, uint32_
     snprintf(ev, sizeof ev, "%s.freed", name);
     ks_event_init(&f->ev_freed, sim, ev);
     f->created = sim->now;
+    f->ev_written.no_record = f->ev_freed.no_record = 1;
+    f->ev_written.on_wait = written_on_wait;
+    f->ev_written.on_wait_ctx = f;
+    f->ev_freed.on_wait = freed_on_wait;
+    f->ev_freed.on_wait_ctx = f;
     KS_GROW(sim->fifos, sim->n_fifos, sim->cap_fifos);
     sim->fifos[sim->n_fifos++] = f;
     if (sim->vcd)

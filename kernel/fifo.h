@@ -12,6 +12,9 @@
  *    wake when it becomes readable; delta notification when latency is 0)
  *    and freed (delta notification after a read). Clocked processes
  *    registered with ks_clocked_wake_on() on them wake at the matching edge.
+ *    A method that starts waiting on one of them is notified from the
+ *    channel's state (an item becoming readable, free space), possibly
+ *    spuriously, never missing an item.
  *  - Statistics: max occupancy, time-weighted mean occupancy (identical with
  *    or without idle skipping), total writes/reads, rejected writes.
  *  - When a VCD writer is open on the sim, the occupancy is traced as
@@ -82,6 +85,13 @@ static inline int ks_fifo_read(ks_fifo *f, void *out);
 #define KS_FIFO_READ(f, ptr) ks_fifo_read_sized((f), (ptr), sizeof *(ptr))
 static inline int ks_fifo_write_sized(ks_fifo *f, const void *item, size_t size);
 static inline int ks_fifo_read_sized(ks_fifo *f, void *out, size_t size);
+/* Zero-copy access. ks_fifo_write_slot: the slot the next write will use
+ * (NULL when full), to be filled in place and then made an item by
+ * ks_fifo_commit (same effects as ks_fifo_write). ks_fifo_pop: drops the
+ * oldest readable item (ks_fifo_read without a copy); 1 on success. */
+static inline void *ks_fifo_write_slot(ks_fifo *f);
+static inline void ks_fifo_commit(ks_fifo *f);
+static inline int ks_fifo_pop(ks_fifo *f);
 /* Ready time of the oldest item (KS_TIME_MAX when empty). */
 ks_time ks_fifo_head_ready_time(const ks_fifo *f);
 
@@ -104,28 +114,18 @@ uint32_t ks_sim_fifo_count(const ks_sim *sim);
 ks_fifo *ks_sim_fifo_at(const ks_sim *sim, uint32_t i);
 
 
-/* ---- inline hot paths (private) ---- */
+/* ---- inline hot paths (private) ----
+ * The generic read/write copy with memcpy(elem_size); the KS_FIFO_READ /
+ * KS_FIFO_WRITE forms pass sizeof at the call site, so the copy is inlined. */
 #include "kernel/sched_types.h"
 
 #define KS_ALWAYS_INLINE inline __attribute__((always_inline))
 
-/* Item copy without a library call for the usual item sizes (multiples of
- * 8 bytes up to 64): a short loop of 8-byte moves. */
-static KS_ALWAYS_INLINE void ks__fifo_copy(void *dst, const void *src, uint32_t n)
-{
-    unsigned char *d = dst;
-    const unsigned char *s = src;
-    if ((n & 7) == 0 && n <= 64) {
-        for (uint32_t i = 0; i < n; i += 8)
-            memcpy(d + i, s + i, 8);
-    } else {
-        memcpy(d, s, n);
-    }
-}
-
 void ks__fifo_size_mismatch(const ks_fifo *f, size_t size);
 
-static KS_ALWAYS_INLINE int ks__fifo_write(ks_fifo *f, const void *item, int sized, size_t size)
+/* mode: 0 copy elem_size bytes, 1 copy `size` bytes (known at the call
+ * site), 2 no copy (the slot was filled in place). */
+static KS_ALWAYS_INLINE int ks__fifo_write(ks_fifo *f, const void *item, int mode, size_t size)
 {
     if (f->count == f->capacity) {
         f->rejected++;
@@ -136,10 +136,10 @@ static KS_ALWAYS_INLINE int ks__fifo_write(ks_fifo *f, const void *item, int siz
     uint32_t i = f->head + f->count;
     if (i >= f->capacity)
         i -= f->capacity;
-    if (sized)
+    if (mode == 1)
         memcpy(f->data + (size_t)i * size, item, size);
-    else
-        ks__fifo_copy(f->data + (size_t)i * f->elem_size, item, f->elem_size);
+    else if (mode == 0)
+        memcpy(f->data + (size_t)i * f->elem_size, item, f->elem_size);
     ks_time ready = now + f->latency_ps;
     f->ready[i] = ready;
     f->count++;
@@ -165,7 +165,7 @@ static KS_ALWAYS_INLINE int ks__fifo_read(ks_fifo *f, void *out, int sized, size
         if (sized)
             memcpy(out, f->data + (size_t)f->head * size, size);
         else
-            ks__fifo_copy(out, f->data + (size_t)f->head * f->elem_size, f->elem_size);
+            memcpy(out, f->data + (size_t)f->head * f->elem_size, f->elem_size);
     }
     if (++f->head == f->capacity)
         f->head = 0;
@@ -193,6 +193,20 @@ static KS_ALWAYS_INLINE int ks_fifo_read(ks_fifo *f, void *out)
 {
     return ks__fifo_read(f, out, 0, 0);
 }
+
+static KS_ALWAYS_INLINE void *ks_fifo_write_slot(ks_fifo *f)
+{
+    if (f->count == f->capacity)
+        return NULL;
+    uint32_t i = f->head + f->count;
+    if (i >= f->capacity)
+        i -= f->capacity;
+    return f->data + (size_t)i * f->elem_size;
+}
+
+static KS_ALWAYS_INLINE void ks_fifo_commit(ks_fifo *f) { ks__fifo_write(f, NULL, 2, 0); }
+
+static KS_ALWAYS_INLINE int ks_fifo_pop(ks_fifo *f) { return ks__fifo_read(f, NULL, 0, 0); }
 
 static KS_ALWAYS_INLINE int ks_fifo_write_sized(ks_fifo *f, const void *item, size_t size)
 {

@@ -13,6 +13,9 @@ ks_method *ks__method_new(ks_sim *sim, const char *name, ks_method_fn fn, void *
     m->user = user;
     KS_GROW(sim->methods, sim->n_methods, sim->cap_methods);
     sim->methods[sim->n_methods++] = m;
+    /* the runnable list never needs more room than one slot per method */
+    while (sim->cap_run < sim->n_methods)
+        ks__grow_run(sim);
     return m;
 }
 
@@ -46,6 +49,7 @@ void ks_method_sensitive(ks_method *m, ks_event *ev)
     KS_GROW(ev->statics, ev->n_statics, ev->cap_statics);
     ev->statics[ev->n_statics++] = m;
     ev->has_methods = ev->any_waiters = 1;
+    ks__event_queue_pending(ev);
     KS_GROW(m->sens, m->n_sens, m->cap_sens);
     m->sens[m->n_sens++] = ev;
 }
@@ -94,6 +98,7 @@ static void dyn_link(ks_method *m, ks_event *ev)
         ev->dyn_head->dyn_prev = m;
     ev->dyn_head = m;
     ev->has_methods = ev->any_waiters = 1;
+    ks__event_queue_pending(ev);
 }
 
 static void set_timeout(ks_method *m, ks_time delay)

@@ -158,6 +158,14 @@ static inline void ks__make_runnable(ks_sim *sim, ks_method *m)
 /* Wakes the clocked waiters of an event at the next edge after now. */
 static inline void ks__wake_clocked_next(const ks_event *ev)
 {
+    if (ev->n_clocked == 1) { /* the usual case: one consumer or producer */
+        ks_clocked *p = ev->clocked[0];
+        if (p->clk->in_tick)
+            *p->woken_word |= p->bit;
+        else
+            ks__clocked_wake_after_now(p);
+        return;
+    }
     for (uint32_t i = 0; i < ev->n_clocked; i++) {
         ks_clocked *p = ev->clocked[i];
         ks_clock *c = p->clk;
@@ -171,6 +179,15 @@ static inline void ks__wake_clocked_next(const ks_event *ev)
 /* Wakes the clocked waiters of an event at the first edge at or after t > now. */
 static inline void ks__wake_clocked_at(const ks_event *ev, ks_time t)
 {
+    if (ev->n_clocked == 1) {
+        ks_clocked *p = ev->clocked[0];
+        ks_clock *c = p->clk;
+        if (c->in_tick && t == c->next_time)
+            *p->woken_word |= p->bit;
+        else
+            ks__clocked_wake_at_time(p, t);
+        return;
+    }
     for (uint32_t i = 0; i < ev->n_clocked; i++) {
         ks_clocked *p = ev->clocked[i];
         ks_clock *c = p->clk;
@@ -181,17 +198,38 @@ static inline void ks__wake_clocked_at(const ks_event *ev, ks_time t)
     }
 }
 
-/* Delta notification; an event is in the delta list at most once while
- * pending (a cancelled entry is skipped when its pending flag is gone). */
+static inline uint64_t ks__next_key(ks_sim *sim, unsigned kind) { return (++sim->seq << 2) | kind; }
+
+/* Is the event's pending notification still ahead? (An unqueued one,
+ * recorded while nobody waited, expires when its time or delta passes.) */
+static inline int ks__pending_live(const ks_event *ev)
+{
+    if (ev->pending == KS_PEND_NONE)
+        return 0;
+    if (ev->queued)
+        return 1;
+    if (ev->pending == KS_PEND_TIMED)
+        return ev->pending_time > ev->sim->now;
+    return ev->pending_delta == ev->sim->deltas;
+}
+
+/* Delta notification. With method waiters it gets a delta-list entry
+ * (an event is in the list at most once while pending; a cancelled entry is
+ * skipped when its pending flag is gone); without, it is only recorded. */
 void ks__event_notify_delta_slow(ks_event *ev);
 static inline __attribute__((always_inline)) void ks__event_notify_delta(ks_event *ev)
 {
-    if (!ev->any_waiters)
-        return;
     if (ev->n_clocked)
         ks__wake_clocked_next(ev);
-    if (!ev->has_methods)
+    if (!ev->has_methods) { /* record only; pending_key 0 voids a queued entry */
+        if (ev->no_record)
+            return;
+        ev->pending = KS_PEND_DELTA;
+        ev->pending_delta = ev->sim->deltas;
+        ev->pending_key = 0;
+        ev->queued = 0;
         return;
+    }
     if (ev->pending != KS_PEND_NONE) {
         if (ev->pending == KS_PEND_TIMED)
             ks__event_notify_delta_slow(ev);
@@ -199,6 +237,7 @@ static inline __attribute__((always_inline)) void ks__event_notify_delta(ks_even
     }
     ks_sim *sim = ev->sim;
     ev->pending = KS_PEND_DELTA;
+    ev->queued = 1;
     if (sim->n_delta == sim->cap_delta)
         ks__grow_delta(sim);
     sim->delta[sim->n_delta].obj = ev;
@@ -207,14 +246,25 @@ static inline __attribute__((always_inline)) void ks__event_notify_delta(ks_even
 }
 
 void ks__event_notify_at_methods(ks_event *ev, ks_time when);
+/* Timed notification at when > now. */
 static inline __attribute__((always_inline)) void ks__event_notify_at(ks_event *ev, ks_time when)
 {
-    if (!ev->any_waiters)
-        return;
     if (ev->n_clocked)
         ks__wake_clocked_at(ev, when);
-    if (ev->has_methods)
+    if (ev->has_methods) {
         ks__event_notify_at_methods(ev, when);
+        return;
+    }
+    /* record only (the queue key is drawn when a method starts waiting) */
+    if (ev->no_record)
+        return;
+    if (ev->pending == KS_PEND_TIMED ? ev->pending_time > ev->sim->now && ev->pending_time <= when
+                                     : ks__pending_live(ev))
+        return;
+    ev->pending = KS_PEND_TIMED;
+    ev->pending_time = when;
+    ev->pending_key = 0;
+    ev->queued = 0;
 }
 
 #endif

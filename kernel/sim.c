@@ -119,7 +119,6 @@ const char *ks_run_status_name(ks_run_status st)
     return "?";
 }
 
-uint64_t ks__next_key(ks_sim *sim, unsigned kind) { return (++sim->seq << 2) | kind; }
 
 /* ---- timed queue: 4-ary min-heap on (t, key) ----
  * A 4-ary heap halves the depth of a binary one (5 levels for 1000 entries)
@@ -205,17 +204,30 @@ void ks__delta_push(ks_sim *sim, void *obj, uint64_t key)
 
 /* Fires an event: wakes its method waiters (clocked waiters were woken when
  * the notification was made). */
+static __attribute__((noinline)) void trigger_dynamic(ks_sim *sim, ks_event *ev);
+
 static inline void event_trigger(ks_sim *sim, ks_event *ev)
 {
     ev->notify_count++;
-    for (uint32_t i = 0; i < ev->n_statics; i++) {
-        ks_method *m = ev->statics[i];
-        if (m->dyn_mode == KS_DYN_STATIC)
-            ks__make_runnable(sim, m);
+    ks_method **st = ev->statics;
+    uint32_t n = ev->n_statics;
+    ks_method **run = sim->run; /* capacity >= number of methods */
+    size_t nr = sim->n_run;
+    for (uint32_t i = 0; i < n; i++) {
+        ks_method *m = st[i];
+        if (!m->runnable && m->dyn_mode == KS_DYN_STATIC) {
+            m->runnable = 1;
+            run[nr++] = m;
+        }
     }
+    sim->n_run = nr;
+    if (ev->dyn_head)
+        trigger_dynamic(sim, ev);
+}
+
+static void trigger_dynamic(ks_sim *sim, ks_event *ev)
+{
     ks_method *m = ev->dyn_head;
-    if (!m)
-        return;
     ev->dyn_head = NULL;
     ev->has_methods = ev->n_statics != 0;
     ev->any_waiters = ev->has_methods || ev->n_clocked;

@@ -11,14 +11,15 @@
  *    notified (a global sequence number), so runs are bit-for-bit repeatable.
  *  - ks_sim_run(sim, until) processes everything at times <= until and
  *    returns why it stopped; it can be called again to continue.
- *  - Deadlock detector (progress based): clocked processes report progress
- *    (their step's return value; methods may call ks_sim_progress). When no
+ *  - Deadlock detector (progress based, armed when the sim has clocked
+ *    processes): clocked processes report progress (their step's return
+ *    value; methods may call ks_sim_progress). Work is pending when a FIFO
+ *    holds items, a process's busy callback says so, or a clocked process is
+ *    awake. When nothing at all is left to run while work is pending, or no
  *    progress was reported for ks_sim_set_deadlock_cycles() cycles of the
- *    first clock (default 100000; 0 disables) while clocked work remains
- *    scheduled, or when nothing at all is left to run while work is pending
- *    (a FIFO holds items or a process's busy callback says so), the run stops
- *    with KS_RUN_DEADLOCK and ks_sim_deadlock_report() tells which processes
- *    wait on which events/channels. A run therefore never hangs silently. */
+ *    first clock (default 100000; 0 disables) while work is pending, the run
+ *    stops with KS_RUN_DEADLOCK and ks_sim_deadlock_report() tells which
+ *    processes wait on which events/channels. A run never hangs silently. */
 #ifndef KS_SIM_H
 #define KS_SIM_H
 

@@ -36,10 +36,12 @@ char *ks__xstrdup(const char *s);
     } while (0)
 
 void ks__set_error(ks_sim *sim, const char *fmt, ...);
-uint64_t ks__next_key(ks_sim *sim, unsigned kind);
 void ks__heap_push(ks_sim *sim, ks_time t, uint64_t key, void *obj);
 void ks__delta_push(ks_sim *sim, void *obj, uint64_t key);
 void ks__event_trigger(ks_event *ev);
+/* Queues a pending notification recorded while the event had no method
+ * waiters (called when a method starts waiting on it). */
+void ks__event_queue_pending(ks_event *ev);
 void ks__method_timeout(ks_method *m, uint64_t key);
 void ks__method_init(ks_sim *sim, ks_method *m);
 ks_method *ks__method_new(ks_sim *sim, const char *name, ks_method_fn fn, void *user);

@@ -11,13 +11,15 @@ enum { VAR_BIT = 0, VAR_INT = 1, VAR_ENUM = 2 };
 #define VCD_BUF (1u << 20)
 
 struct ks_vcd_var {
+    /* same prefix as struct ks__vcd_var_head (vcd.h inline fast path) */
     ks_vcd *vcd;
     uint64_t value;            /* current value */
-    uint64_t emitted;          /* value as of the last time written out */
     uint64_t mask;
+    uint8_t dirty;             /* in the dirty list of the current time */
+    /* private */
     uint8_t kind;
     uint8_t idlen;
-    uint8_t dirty;             /* in the dirty list of the current time */
+    uint64_t emitted;          /* value as of the last time written out */
     char id[8];                /* padded: copied as 8 bytes */
     unsigned width;
     const char *const *names;
@@ -27,8 +29,15 @@ struct ks_vcd_var {
 };
 
 struct ks_vcd {
-    ks_sim *sim;
+    /* same prefix as struct ks__vcd_head (vcd.h inline fast path) */
     const ks_time *now;
+    ks_time cur_t;             /* time of the changes in the dirty list */
+    ks_vcd_var **dirty;
+    unsigned n_dirty, cap_dirty;
+    uint8_t header_done;
+    /* private */
+    uint8_t started, ended, io_error;
+    ks_sim *sim;
     FILE *f;
     char *path, *tmp_path;
     int direct;
@@ -43,10 +52,6 @@ struct ks_vcd {
     size_t pos;
     uint64_t flushed;
     int64_t last_vt;
-    ks_time cur_t;             /* time of the changes in the dirty list */
-    ks_vcd_var **dirty;
-    unsigned n_dirty, cap_dirty;
-    uint8_t header_done, started, ended, io_error;
 };
 
 static char bin8[257][8]; /* one spare row: top-byte copies read past a row */
@@ -95,17 +100,30 @@ static void put_str(ks_vcd *d, const char *s)
     d->pos += n;
 }
 
+static const char digits2[201] =
+    "00010203040506070809101112131415161718192021222324252627282930313233343536373839"
+    "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
+    "8081828384858687888990919293949596979899";
+
+/* Decimal, two digits per step. */
 static inline char *put_u64(char *p, uint64_t v)
 {
     char tmp[24];
-    int n = 0;
-    do {
-        tmp[n++] = (char)('0' + v % 10);
-        v /= 10;
-    } while (v);
-    while (n)
-        *p++ = tmp[--n];
-    return p;
+    int n = 24;
+    while (v >= 100) {
+        unsigned r = (unsigned)(v % 100);
+        v /= 100;
+        n -= 2;
+        memcpy(tmp + n, digits2 + 2 * r, 2);
+    }
+    if (v >= 10) {
+        n -= 2;
+        memcpy(tmp + n, digits2 + 2 * v, 2);
+    } else {
+        tmp[--n] = (char)('0' + v);
+    }
+    memcpy(p, tmp + n, (size_t)(24 - n));
+    return p + (24 - n);
 }
 
 /* Binary without leading zeros ("0" for zero). */
@@ -128,35 +146,40 @@ static inline char *put_bin(char *p, uint64_t v)
     return p;
 }
 
-static void emit_value(ks_vcd *d, const ks_vcd_var *v)
+static __attribute__((noinline)) void emit_enum(ks_vcd *d, const ks_vcd_var *v)
+{
+    const char *s = v->emitted < v->n_names && v->names[v->emitted] ? v->names[v->emitted] : "?";
+    size_t n = strlen(s);
+    if (n > 4096)
+        n = 4096;
+    ensure(d, n + 16);
+    char *p = d->buf + d->pos;
+    *p++ = 's';
+    for (size_t i = 0; i < n; i++)
+        *p++ = (s[i] == ' ' || s[i] == '\n' || s[i] == '\t') ? '_' : s[i];
+    *p++ = ' ';
+    memcpy(p, v->id, v->idlen);
+    p += v->idlen;
+    *p++ = '\n';
+    d->pos = (size_t)(p - d->buf);
+}
+
+static inline void emit_value(ks_vcd *d, const ks_vcd_var *v)
 {
     if (v->kind == VAR_ENUM) {
-        const char *s = v->emitted < v->n_names && v->names[v->emitted] ? v->names[v->emitted] : "?";
-        size_t n = strlen(s);
-        if (n > 4096)
-            n = 4096;
-        ensure(d, n + 16);
-        char *p = d->buf + d->pos;
-        *p++ = 's';
-        for (size_t i = 0; i < n; i++)
-            *p++ = (s[i] == ' ' || s[i] == '\n' || s[i] == '\t') ? '_' : s[i];
-        *p++ = ' ';
-        memcpy(p, v->id, v->idlen);
-        p += v->idlen;
-        *p++ = '\n';
-        d->pos = (size_t)(p - d->buf);
+        emit_enum(d, v);
         return;
     }
     ensure(d, 96);
     char *p = d->buf + d->pos;
-    if (v->kind == VAR_BIT) {
-        *p++ = (char)('0' + (v->emitted & 1));
-    } else {
+    if (v->kind == VAR_INT) {
         *p++ = 'b';
         p = put_bin(p, v->emitted);
         *p++ = ' ';
+    } else {
+        *p++ = (char)('0' + (v->emitted & 1));
     }
-    memcpy(p, v->id, 8);
+    memcpy(p, v->id, 8); /* padded: the extra bytes are overwritten next */
     p += v->idlen;
     *p++ = '\n';
     d->pos = (size_t)(p - d->buf);
@@ -308,6 +331,16 @@ static void flush_dirty(ks_vcd *d)
         d->n_dirty = 0;
         return;
     }
+    if (!d->started && t == d->begin) {
+        /* changes at the first time of the window go into its $dumpvars */
+        for (unsigned i = 0; i < d->n_dirty; i++) {
+            d->dirty[i]->emitted = d->dirty[i]->value;
+            d->dirty[i]->dirty = 0;
+        }
+        d->n_dirty = 0;
+        start_window(d);
+        return;
+    }
     if (!d->started)
         start_window(d);
     if (t >= d->end) {
@@ -334,6 +367,22 @@ static void flush_dirty(ks_vcd *d)
     d->n_dirty = 0;
 }
 
+/* First change of a new time stamp: write out the previous one. */
+static __attribute__((noinline)) void new_time(ks_vcd *d, ks_time now)
+{
+    if (d->n_dirty)
+        flush_dirty(d);
+    d->cur_t = now;
+    if (!d->header_done)
+        write_header(d); /* freezes the declarations */
+}
+
+static __attribute__((noinline)) void grow_dirty(ks_vcd *d)
+{
+    d->cap_dirty = d->cap_dirty ? d->cap_dirty * 2 : 64;
+    d->dirty = ks__xrealloc(d->dirty, d->cap_dirty * sizeof *d->dirty);
+}
+
 void ks__vcd_set(ks_vcd_var *v, uint64_t value)
 {
     value &= v->mask;
@@ -341,20 +390,13 @@ void ks__vcd_set(ks_vcd_var *v, uint64_t value)
         return;
     ks_vcd *d = v->vcd;
     ks_time now = *d->now;
-    if (now != d->cur_t) {
-        if (d->n_dirty)
-            flush_dirty(d);
-        d->cur_t = now;
-    }
-    if (!d->header_done)
-        write_header(d); /* freezes the declarations */
+    if (now != d->cur_t || !d->header_done)
+        new_time(d, now);
     v->value = value;
     if (!v->dirty) {
         v->dirty = 1;
-        if (d->n_dirty == d->cap_dirty) {
-            d->cap_dirty = d->cap_dirty ? d->cap_dirty * 2 : 64;
-            d->dirty = ks__xrealloc(d->dirty, d->cap_dirty * sizeof *d->dirty);
-        }
+        if (d->n_dirty == d->cap_dirty)
+            grow_dirty(d);
         d->dirty[d->n_dirty++] = v;
     }
 }

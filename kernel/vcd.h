@@ -48,11 +48,40 @@ ks_vcd_var *ks_vcd_var_enum(ks_vcd *vcd, const char *name, const char *const *na
 
 /* Sets the value at the sim's current time (bit: 0/1; int: masked to the
  * width; enum: index < n). */
+/* ---- private: layout prefixes for the inline fast path of ks_vcd_set ---- */
+struct ks__vcd_head {
+    const ks_time *now;
+    ks_time cur_t;             /* time of the changes in the dirty list */
+    ks_vcd_var **dirty;        /* variables changed at cur_t */
+    unsigned n_dirty, cap_dirty;
+    uint8_t header_done;
+};
+struct ks__vcd_var_head {
+    struct ks__vcd_head *vcd;
+    uint64_t value, mask;
+    uint8_t dirty;
+};
 void ks__vcd_set(ks_vcd_var *var, uint64_t value);
 static inline void ks_vcd_set(ks_vcd_var *var, uint64_t value)
 {
-    if (var)
-        ks__vcd_set(var, value);
+    if (!var)
+        return;
+    struct ks__vcd_var_head *h = (struct ks__vcd_var_head *)var;
+    value &= h->mask;
+    if (value == h->value)
+        return;
+    struct ks__vcd_head *d = h->vcd;
+    /* a change at the current time stamp: record it (the final value of
+     * the time stamp is written when time moves on) */
+    if (*d->now == d->cur_t && d->header_done && (h->dirty || d->n_dirty < d->cap_dirty)) {
+        h->value = value;
+        if (!h->dirty) {
+            h->dirty = 1;
+            d->dirty[d->n_dirty++] = var;
+        }
+        return;
+    }
+    ks__vcd_set(var, value);
 }
 /* Bytes written so far (including what is still buffered). */
 uint64_t ks_vcd_bytes(const ks_vcd *vcd);

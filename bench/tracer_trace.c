@@ -22,10 +22,13 @@
 #include "tracer/scene.h"
 #include "tracer/traverse.h"
 
+/* CPU time of the process: both sides are single-threaded, so on an idle
+ * machine this equals wall time, and on a shared one it is not inflated by
+ * other jobs' time slices. */
 static double now_s(void)
 {
     struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
@@ -102,7 +105,7 @@ int main(int argc, char **argv)
     const char *scene = NULL, *view_name = NULL;
     uint32_t w = 640, h = 360;
     int runs = 5, width = 4;
-    bool do_check = false;
+    bool do_check = false, ours_only = false;
     char err[1024];
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--view") && i + 1 < argc)
@@ -120,6 +123,8 @@ int main(int argc, char **argv)
                 return usage("--width must be 2..8");
         } else if (!strcmp(argv[i], "--check"))
             do_check = true;
+        else if (!strcmp(argv[i], "--ours-only"))   /* profiling: our traversal only */
+            ours_only = true;
         else if (argv[i][0] != '-' && !scene)
             scene = argv[i];
         else
@@ -144,13 +149,14 @@ int main(int argc, char **argv)
     double ours[100], ref[100];
     rt_bvh_image img = {0};
     rt_bvh_stats st;
-    for (int r = 0; r < runs; r++) {
+    for (int r = 0; r < (ours_only ? 1 : runs); r++) {
         rt_bvh_image_free(&img);
+        const double t0 = now_s();
         if (!rt_bvh_build(&sc.mesh, &bp, &img, &st, err, sizeof err)) {
             fprintf(stderr, "tracer_trace: %s\n", err);
             return 2;
         }
-        ours[r] = st.build_seconds;
+        ours[r] = now_s() - t0;
         rt_embree *e = rt_embree_create(&sc.mesh, 0, err, sizeof err);
         if (!e) {
             fprintf(stderr, "tracer_trace: %s\n", err);
@@ -161,7 +167,8 @@ int main(int argc, char **argv)
     }
     fprintf(stderr, "%s: %u triangles; width %d: %u nodes, %u leaves, depth %u, SAH %.2f\n", sc.name, sc.mesh.ntris,
             width, st.inner_nodes, st.leaves, st.max_depth, st.sah_cost);
-    printf("build %.6f %.6f %u\n", median(ours, runs), median(ref, runs), sc.mesh.ntris);
+    if (!ours_only)
+        printf("build %.6f %.6f %u\n", median(ours, runs), median(ref, runs), sc.mesh.ntris);
 
     rt_trv_params tp;
     rt_trv_params_default(&tp, width);
@@ -176,13 +183,27 @@ int main(int argc, char **argv)
         fprintf(stderr, "tracer_trace: %s\n", err);
         return 2;
     }
+    for (int k = 0; k < 2; k++) {
+        const rt_ray_set *s = k ? &diff : &prim;
+        uint64_t v = 0, bt = 0, tt = 0, pu = 0, cu = 0;
+        for (uint32_t i = 0; i < s->n; i++) {
+            rt_hit hh;
+            rt_trv_counts cc;
+            rt_trace_ray(&img, &tp, &s->rays[i], &hh, &cc, NULL, NULL);
+            v += cc.visits, bt += cc.box_tests, tt += cc.tri_tests, pu += cc.pushes, cu += cc.culls;
+        }
+        const double n = s->n ? (double)s->n : 1.0;
+        fprintf(stderr, "%s rays: %u; per ray %.1f visits, %.1f box tests, %.1f triangle tests, %.1f pushes, %.1f culls\n",
+                k ? "diffuse" : "primary", s->n, (double)v / n, (double)bt / n, (double)tt / n, (double)pu / n,
+                (double)cu / n);
+    }
     uint64_t sum = 0;
     const rt_ray_set *sets[2] = {&prim, &diff};
     const char *names[2] = {"primary", "diffuse"};
     for (int k = 0; k < 2; k++) {
         for (int r = 0; r < runs; r++) {
             ours[r] = time_ours(&img, &tp, sets[k], &sum);
-            ref[r] = time_embree(e, sets[k], &sum);
+            ref[r] = ours_only ? 0.0 : time_embree(e, sets[k], &sum);
         }
         printf("%s %.6f %.6f %u\n", names[k], median(ours, runs), median(ref, runs), sets[k]->n);
         fflush(stdout);

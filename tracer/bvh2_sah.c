@@ -3,29 +3,33 @@
  * multiply) into params->bins bins per axis, sweeps the bin boundaries for the
  * cheapest split, and partitions its range of triangle references in place.
  * The centroid bounds of both children are gathered during the partition, so
- * every triangle is read twice per tree level. */
+ * every triangle is read twice per tree level. Box arithmetic is four-lane
+ * (vec4_minmax.h: SSE where available, same bits either way). */
 #include "tracer/bvh2_sah.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "tracer/big_alloc.h"
+#include "tracer/vec4_minmax.h"
+
+/* 32 bytes: two refs per 64-byte cache line. Lane 3 of lo is 0; lane 3 of hi
+ * holds the triangle index bits (ignored by the box arithmetic). */
 typedef struct prim_ref {
-    float lo[3];
-    uint32_t id;
-    float hi[3];
-    uint32_t pad;   /* 32 bytes: two refs per 64-byte cache line */
+    _Alignas(16) float lo[4];
+    float hi[4];
 } prim_ref;
+
+typedef struct box4 {
+    _Alignas(16) float lo[4];
+    float hi[4];
+} box4;
 
 typedef struct build_task {
     uint32_t node, begin, end;
-    float clo[3], chi[3];   /* bounds of lo + hi over the range */
+    box4 cent;   /* bounds of lo + hi over the range */
 } build_task;
-
-typedef struct bin {
-    float lo[3], hi[3];
-    uint32_t count;
-} bin;
 
 enum { BINS_MAX = 256 };
 
@@ -37,34 +41,41 @@ typedef struct builder {
     size_t stack_len, stack_cap;
     int bins, leaf_size;
     float cost_node, cost_tri;
-    bin b[3][BINS_MAX];
+    box4 bin[3][BINS_MAX];
+    uint32_t count[3][BINS_MAX];
+    float rarea[BINS_MAX];
+    uint32_t rcount[BINS_MAX];
 } builder;
 
-static inline void box_empty(float lo[3], float hi[3])
+static inline uint32_t ref_id(const prim_ref *p)
 {
-    for (int a = 0; a < 3; a++)
-        lo[a] = INFINITY, hi[a] = -INFINITY;
+    uint32_t id;
+    memcpy(&id, &p->hi[3], 4);
+    return id;
 }
 
-static inline void box_grow(float lo[3], float hi[3], const float plo[3], const float phi[3])
+static inline void box4_empty(box4 *b)
 {
-    for (int a = 0; a < 3; a++) {
-        lo[a] = plo[a] < lo[a] ? plo[a] : lo[a];
-        hi[a] = phi[a] > hi[a] ? phi[a] : hi[a];
-    }
+    v4_store(b->lo, v4_set1(INFINITY));
+    v4_store(b->hi, v4_set1(-INFINITY));
 }
 
-static inline void cent_grow(float lo[3], float hi[3], const prim_ref *r)
+/* Same expression order as rt_box_half_area. */
+static inline float half_area4(v4 lo, v4 hi)
 {
-    for (int a = 0; a < 3; a++) {
-        const float c = r->lo[a] + r->hi[a];
-        lo[a] = c < lo[a] ? c : lo[a];
-        hi[a] = c > hi[a] ? c : hi[a];
-    }
+    _Alignas(16) float d[4];
+    v4_store(d, v4_sub(hi, lo));
+    return d[0] * d[1] + d[1] * d[2] + d[2] * d[0];
 }
 
-/* The bin of centroid value c on an axis: the same expression in binning
- * and partitioning, so both agree bit for bit. */
+static inline void box4_to_node(const box4 *b, rt_bvh2_node *n)
+{
+    memcpy(n->lo, b->lo, 12);
+    memcpy(n->hi, b->hi, 12);
+}
+
+/* The bin of centroid value c on one axis: the same operations as the
+ * four-lane binning, so binning and partitioning agree bit for bit. */
 static inline int bin_of(float c, float cmin, float scale, int nbins)
 {
     int i = (int)((c - cmin) * scale);
@@ -84,18 +95,23 @@ static bool push_task(builder *bd, const build_task *t)
     return true;
 }
 
-/* Splits t's range at the middle (all centroids coincide): bounds by passes. */
-static uint32_t split_middle(builder *bd, const build_task *t, build_task *l, build_task *r, float llo[3],
-                             float lhi[3], float rlo[3], float rhi[3])
+/* Bounds and centroid bounds of refs[begin, end). */
+static void range_bounds(const builder *bd, uint32_t begin, uint32_t end, box4 *box, box4 *cent)
 {
-    const uint32_t mid = t->begin + (t->end - t->begin) / 2;
-    box_empty(llo, lhi), box_empty(rlo, rhi);
-    box_empty(l->clo, l->chi), box_empty(r->clo, r->chi);
-    for (uint32_t i = t->begin; i < mid; i++)
-        box_grow(llo, lhi, bd->refs[i].lo, bd->refs[i].hi), cent_grow(l->clo, l->chi, &bd->refs[i]);
-    for (uint32_t i = mid; i < t->end; i++)
-        box_grow(rlo, rhi, bd->refs[i].lo, bd->refs[i].hi), cent_grow(r->clo, r->chi, &bd->refs[i]);
-    return mid;
+    v4 lo = v4_set1(INFINITY), hi = v4_set1(-INFINITY), clo = lo, chi = hi;
+    for (uint32_t i = begin; i < end; i++) {
+        const v4 a = v4_load(bd->refs[i].lo), b = v4_load(bd->refs[i].hi), c = v4_add(a, b);
+        lo = v4_min(lo, a), hi = v4_max(hi, b);
+        clo = v4_min(clo, c), chi = v4_max(chi, c);
+    }
+    v4_store(box->lo, lo), v4_store(box->hi, hi);
+    v4_store(cent->lo, clo), v4_store(cent->hi, chi);
+}
+
+static void make_leaf(rt_bvh2_node *node, const build_task *t)
+{
+    node->first = t->begin;
+    node->count = t->end - t->begin;
 }
 
 /* Processes one node: leaf, or split with both children pushed. */
@@ -104,159 +120,179 @@ static bool build_node(builder *bd, const build_task *t)
     rt_bvh2_node *node = &bd->nodes[t->node];
     const uint32_t n = t->end - t->begin;
     const int nb = bd->bins;
-    float scale[3];
+    _Alignas(16) float scale[4] = {0, 0, 0, 0};
     bool any_extent = false;
     for (int a = 0; a < 3; a++) {
-        const float ext = t->chi[a] - t->clo[a];
+        const float ext = t->cent.hi[a] - t->cent.lo[a];
         scale[a] = ext > 0.0f ? (float)nb * (1.0f - 1e-6f) / ext : 0.0f;
         any_extent |= ext > 0.0f;
     }
     if (n == 1 || (!any_extent && n <= (uint32_t)bd->leaf_size)) {
-        node->first = t->begin, node->count = n;
+        make_leaf(node, t);
         return true;
     }
     build_task l = {0}, r = {0};
-    float llo[3], lhi[3], rlo[3], rhi[3];
-    uint32_t mid;
+    box4 lbox, rbox;
+    uint32_t mid = 0;
+    int best_axis = -1, best_split = 0;
     if (any_extent) {
         for (int a = 0; a < 3; a++)
             for (int i = 0; i < nb; i++)
-                box_empty(bd->b[a][i].lo, bd->b[a][i].hi), bd->b[a][i].count = 0;
+                box4_empty(&bd->bin[a][i]), bd->count[a][i] = 0;
+        const v4 cmin = v4_load(t->cent.lo), sc = v4_load(scale);
         for (uint32_t i = t->begin; i < t->end; i++) {
             const prim_ref *p = &bd->refs[i];
+            const v4 lo = v4_load(p->lo), hi = v4_load(p->hi);
+            _Alignas(16) int idx[4];
+            v4_to_int3(v4_mul(v4_sub(v4_add(lo, hi), cmin), sc), idx);
             for (int a = 0; a < 3; a++) {
-                bin *b = &bd->b[a][bin_of(p->lo[a] + p->hi[a], t->clo[a], scale[a], nb)];
-                box_grow(b->lo, b->hi, p->lo, p->hi);
-                b->count++;
+                const int k = idx[a] < nb - 1 ? idx[a] : nb - 1;
+                box4 *b = &bd->bin[a][k];
+                v4_store(b->lo, v4_min(v4_load(b->lo), lo));
+                v4_store(b->hi, v4_max(v4_load(b->hi), hi));
+                bd->count[a][k]++;
             }
         }
         /* Sweep: right-hand areas/counts, then left to right. */
         float best = INFINITY;
-        int best_axis = -1, best_split = 0;
-        float rarea[BINS_MAX];
-        uint32_t rcount[BINS_MAX];
         for (int a = 0; a < 3; a++) {
             if (scale[a] == 0.0f)
                 continue;
-            float lo[3], hi[3];
-            box_empty(lo, hi);
+            v4 lo = v4_set1(INFINITY), hi = v4_set1(-INFINITY);
             uint32_t cnt = 0;
             for (int i = nb - 1; i >= 1; i--) {
-                box_grow(lo, hi, bd->b[a][i].lo, bd->b[a][i].hi);
-                cnt += bd->b[a][i].count;
-                rcount[i] = cnt;
-                rarea[i] = cnt ? rt_box_half_area(lo, hi) : 0.0f;
+                lo = v4_min(lo, v4_load(bd->bin[a][i].lo));
+                hi = v4_max(hi, v4_load(bd->bin[a][i].hi));
+                cnt += bd->count[a][i];
+                bd->rcount[i] = cnt;
+                bd->rarea[i] = cnt ? half_area4(lo, hi) : 0.0f;
             }
-            box_empty(lo, hi);
+            lo = v4_set1(INFINITY), hi = v4_set1(-INFINITY);
             cnt = 0;
             for (int i = 1; i < nb; i++) {
-                box_grow(lo, hi, bd->b[a][i - 1].lo, bd->b[a][i - 1].hi);
-                cnt += bd->b[a][i - 1].count;
-                if (cnt == 0 || rcount[i] == 0)
+                lo = v4_min(lo, v4_load(bd->bin[a][i - 1].lo));
+                hi = v4_max(hi, v4_load(bd->bin[a][i - 1].hi));
+                cnt += bd->count[a][i - 1];
+                if (cnt == 0 || bd->rcount[i] == 0)
                     continue;
-                const float cost = rt_box_half_area(lo, hi) * (float)cnt + rarea[i] * (float)rcount[i];
+                const float cost = half_area4(lo, hi) * (float)cnt + bd->rarea[i] * (float)bd->rcount[i];
                 if (cost < best)
                     best = cost, best_axis = a, best_split = i;
             }
         }
-        if (best_axis < 0) {
-            /* cannot happen with a non-zero extent (the first and last bins are
-             * non-empty); kept as a guard */
-            any_extent = false;
-        } else {
+        if (best_axis >= 0) {
             const float area = rt_box_half_area(node->lo, node->hi);
             const float split_cost =
                 area > 0.0f ? bd->cost_node + bd->cost_tri * best / area : bd->cost_node + bd->cost_tri * (float)n;
             if (n <= (uint32_t)bd->leaf_size && bd->cost_tri * (float)n <= split_cost) {
-                node->first = t->begin, node->count = n;
+                make_leaf(node, t);
                 return true;
             }
             const int a = best_axis;
-            box_empty(llo, lhi), box_empty(rlo, rhi);
+            v4 llo = v4_set1(INFINITY), lhi = v4_set1(-INFINITY), rlo = llo, rhi = lhi;
             for (int i = 0; i < nb; i++) {
+                const v4 blo = v4_load(bd->bin[a][i].lo), bhi = v4_load(bd->bin[a][i].hi);
                 if (i < best_split)
-                    box_grow(llo, lhi, bd->b[a][i].lo, bd->b[a][i].hi);
+                    llo = v4_min(llo, blo), lhi = v4_max(lhi, bhi);
                 else
-                    box_grow(rlo, rhi, bd->b[a][i].lo, bd->b[a][i].hi);
+                    rlo = v4_min(rlo, blo), rhi = v4_max(rhi, bhi);
             }
-            box_empty(l.clo, l.chi), box_empty(r.clo, r.chi);
+            v4_store(lbox.lo, llo), v4_store(lbox.hi, lhi);
+            v4_store(rbox.lo, rlo), v4_store(rbox.hi, rhi);
+            v4 lclo = v4_set1(INFINITY), lchi = v4_set1(-INFINITY), rclo = lclo, rchi = lchi;
             uint32_t i = t->begin, j = t->end;
-            const float cmin = t->clo[a], sc = scale[a];
+            const float cmin_a = t->cent.lo[a], sc_a = scale[a];
             while (i < j) {
                 prim_ref *p = &bd->refs[i];
-                if (bin_of(p->lo[a] + p->hi[a], cmin, sc, nb) < best_split) {
-                    cent_grow(l.clo, l.chi, p);
+                const v4 c = v4_add(v4_load(p->lo), v4_load(p->hi));
+                if (bin_of(p->lo[a] + p->hi[a], cmin_a, sc_a, nb) < best_split) {
+                    lclo = v4_min(lclo, c), lchi = v4_max(lchi, c);
                     i++;
                 } else {
+                    rclo = v4_min(rclo, c), rchi = v4_max(rchi, c);
                     j--;
-                    prim_ref tmp = *p;
+                    const prim_ref tmp = *p;
                     *p = bd->refs[j];
                     bd->refs[j] = tmp;
-                    cent_grow(r.clo, r.chi, &bd->refs[j]);
                 }
             }
             mid = i;
+            v4_store(l.cent.lo, lclo), v4_store(l.cent.hi, lchi);
+            v4_store(r.cent.lo, rclo), v4_store(r.cent.hi, rchi);
         }
     }
-    if (!any_extent)
-        mid = split_middle(bd, t, &l, &r, llo, lhi, rlo, rhi);
+    if (best_axis < 0) {
+        /* all centroids coincide (or no valid boundary): middle of the range */
+        mid = t->begin + n / 2;
+        range_bounds(bd, t->begin, mid, &lbox, &l.cent);
+        range_bounds(bd, mid, t->end, &rbox, &r.cent);
+    }
     const uint32_t c = bd->nnodes;
     bd->nnodes += 2;
     node->first = c, node->count = 0;
-    rt_bvh2_node *cl = &bd->nodes[c], *cr = &bd->nodes[c + 1];
-    memcpy(cl->lo, llo, sizeof llo), memcpy(cl->hi, lhi, sizeof lhi);
-    memcpy(cr->lo, rlo, sizeof rlo), memcpy(cr->hi, rhi, sizeof rhi);
+    box4_to_node(&lbox, &bd->nodes[c]);
+    box4_to_node(&rbox, &bd->nodes[c + 1]);
     l.node = c, l.begin = t->begin, l.end = mid;
     r.node = c + 1, r.begin = mid, r.end = t->end;
     /* right first so the left subtree is built (and numbered) first */
     return push_task(bd, &r) && push_task(bd, &l);
 }
 
+static inline float min3(float a, float b, float c)
+{
+    const float m = a < b ? a : b;
+    return m < c ? m : c;
+}
+static inline float max3(float a, float b, float c)
+{
+    const float m = a > b ? a : b;
+    return m > c ? m : c;
+}
+
 bool rt_bvh2_build_sah(const rt_mesh *mesh, const rt_bvh_params *params, rt_bvh2 *out)
 {
     memset(out, 0, sizeof *out);
     const uint32_t n = mesh->ntris;
-    builder *bd = calloc(1, sizeof *bd);
+    builder *bd = aligned_alloc(16, (sizeof(builder) + 15) & ~(size_t)15);
     if (!bd)
         return false;
+    memset(bd, 0, sizeof *bd);
     bd->bins = params->bins, bd->leaf_size = params->leaf_size;
     bd->cost_node = params->cost_node, bd->cost_tri = params->cost_tri;
-    bd->refs = malloc((size_t)n * sizeof *bd->refs);
-    bd->nodes = malloc((2 * (size_t)n) * sizeof *bd->nodes);
+    bd->refs = rt_big_alloc((size_t)n * sizeof *bd->refs);
+    bd->nodes = rt_big_alloc((2 * (size_t)n) * sizeof *bd->nodes);
     out->order = malloc((size_t)n * sizeof *out->order);
     bool ok = bd->refs && bd->nodes && out->order;
     if (ok) {
-        build_task root = {0};
-        root.end = n;
-        box_empty(root.clo, root.chi);
-        rt_bvh2_node *r = &bd->nodes[0];
-        box_empty(r->lo, r->hi);
         for (uint32_t i = 0; i < n; i++) {
             const uint32_t *t = mesh->tris + 3 * (size_t)i;
             const rt_vec3 *v0 = &mesh->verts[t[0]], *v1 = &mesh->verts[t[1]], *v2 = &mesh->verts[t[2]];
             prim_ref *p = &bd->refs[i];
-            p->lo[0] = fminf(v0->x, fminf(v1->x, v2->x));
-            p->lo[1] = fminf(v0->y, fminf(v1->y, v2->y));
-            p->lo[2] = fminf(v0->z, fminf(v1->z, v2->z));
-            p->hi[0] = fmaxf(v0->x, fmaxf(v1->x, v2->x));
-            p->hi[1] = fmaxf(v0->y, fmaxf(v1->y, v2->y));
-            p->hi[2] = fmaxf(v0->z, fmaxf(v1->z, v2->z));
-            p->id = i, p->pad = 0;
-            box_grow(r->lo, r->hi, p->lo, p->hi);
-            cent_grow(root.clo, root.chi, p);
+            p->lo[0] = min3(v0->x, v1->x, v2->x);
+            p->lo[1] = min3(v0->y, v1->y, v2->y);
+            p->lo[2] = min3(v0->z, v1->z, v2->z);
+            p->lo[3] = 0.0f;
+            p->hi[0] = max3(v0->x, v1->x, v2->x);
+            p->hi[1] = max3(v0->y, v1->y, v2->y);
+            p->hi[2] = max3(v0->z, v1->z, v2->z);
+            memcpy(&p->hi[3], &i, 4);
         }
+        build_task root = {0};
+        root.end = n;
+        box4 box;
+        range_bounds(bd, 0, n, &box, &root.cent);
+        box4_to_node(&box, &bd->nodes[0]);
         bd->nnodes = 1;
         ok = push_task(bd, &root);
         while (ok && bd->stack_len > 0) {
-            build_task t = bd->stack[--bd->stack_len];
+            const build_task t = bd->stack[--bd->stack_len];
             ok = build_node(bd, &t);
         }
     }
     if (ok) {
         for (uint32_t i = 0; i < n; i++)
-            out->order[i] = bd->refs[i].id;
-        rt_bvh2_node *shrunk = realloc(bd->nodes, (size_t)bd->nnodes * sizeof *shrunk);
-        out->nodes = shrunk ? shrunk : bd->nodes;
+            out->order[i] = ref_id(&bd->refs[i]);
+        out->nodes = bd->nodes;   /* not shrunk: realloc would copy it out of its huge pages */
         out->nnodes = bd->nnodes;
         out->ntris = n;
     } else {

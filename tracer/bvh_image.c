@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "tracer/big_alloc.h"
 #include "tracer/mbvh_collapse.h"
 #include "tracer/wald_tri.h"
 
@@ -32,7 +33,7 @@ bool rt_bvh_layout_image(const rt_mesh *mesh, const rt_bvh2 *b, const rt_bvh_par
     for (uint32_t i = 0; i < b->nnodes; i++)
         inner2 += b->nodes[i].count == 0;
     const uint32_t cap = inner2 ? inner2 : 1;
-    wide_node *w = malloc((size_t)cap * sizeof *w);
+    wide_node *w = rt_big_alloc((size_t)cap * sizeof *w);
     walk_entry *st = malloc(((size_t)cap * RT_WIDTH_MAX + 1) * sizeof *st);
     if (!w || !st) {
         free(w), free(st);
@@ -68,12 +69,13 @@ bool rt_bvh_layout_image(const rt_mesh *mesh, const rt_bvh2 *b, const rt_bvh_par
     const uint64_t node_bytes = (uint64_t)nw * nb;
     const uint64_t tri_base = (node_bytes + 4095u) & ~(uint64_t)4095u;
     img->size = tri_base + (uint64_t)b->ntris * RT_TRI_BYTES;
-    img->bytes = calloc(1, img->size);
+    img->bytes = rt_big_alloc(img->size);
     if (!img->bytes) {
         free(w);
         memset(img, 0, sizeof *img);
         return false;
     }
+    memset(img->bytes + node_bytes, 0, tri_base - node_bytes);   /* padding before the triangles */
     img->node_base = 0, img->tri_base = tri_base;
     img->width = width, img->node_bytes = nb;
     img->nnodes = nw, img->ntris = b->ntris;
@@ -82,7 +84,7 @@ bool rt_bvh_layout_image(const rt_mesh *mesh, const rt_bvh2 *b, const rt_bvh_par
     for (uint32_t s = 0; s < w[0].n; s++) {
         const rt_bvh2_node *c = &b->nodes[w[0].child[s]];
         for (int a = 0; a < 3; a++)
-            rlo[a] = fminf(rlo[a], c->lo[a]), rhi[a] = fmaxf(rhi[a], c->hi[a]);
+            rlo[a] = c->lo[a] < rlo[a] ? c->lo[a] : rlo[a], rhi[a] = c->hi[a] > rhi[a] ? c->hi[a] : rhi[a];
     }
     double root_area = rt_box_half_area(rlo, rhi);
     if (!(root_area > 0.0))
@@ -103,7 +105,7 @@ bool rt_bvh_layout_image(const rt_mesh *mesh, const rt_bvh2 *b, const rt_bvh_par
                 const rt_bvh2_node *c = &b->nodes[wn->child[s]];
                 memcpy(ch.lo, c->lo, sizeof ch.lo), memcpy(ch.hi, c->hi, sizeof ch.hi);
                 for (int a = 0; a < 3; a++)
-                    nlo[a] = fminf(nlo[a], c->lo[a]), nhi[a] = fmaxf(nhi[a], c->hi[a]);
+                    nlo[a] = c->lo[a] < nlo[a] ? c->lo[a] : nlo[a], nhi[a] = c->hi[a] > nhi[a] ? c->hi[a] : nhi[a];
                 if (c->count == 0) {
                     ch.ref = wn->wide[s], ch.meta = 0;
                 } else {

@@ -11,7 +11,9 @@
  *                        leaf child:  first triangle index (address = tri_base + ref * 48)
  *   uint32 meta          bits 0..15: triangle count of a leaf child (1..RT_LEAF_MAX),
  *                        0 for an inner child; bit 31 (RT_META_EMPTY): slot unused
- *                        (then the box is lo = +inf, hi = -inf and never hit)
+ *                        (then the box is lo = +inf, hi = -inf and ref = 0; an
+ *                        empty slot is recognised by this bit and never tested:
+ *                        the slab test of an inverted box does not reliably miss)
  * Used slots come first; the root is node 0 and always an inner node.
  *
  * Triangle: 48 bytes in Wald's (2004, sec. 7.1) precomputed projection form:
@@ -80,27 +82,33 @@ static inline void rt_ray_prepare(const float org[3], const float dir[3], rt_ray
     }
 }
 
-static inline float rt_minf(float a, float b) { return a < b ? a : b; }   /* NaN-dropping when b is the NaN */
+static inline float rt_minf(float a, float b) { return a < b ? a : b; }   /* b when either is NaN */
 static inline float rt_maxf(float a, float b) { return a > b ? a : b; }
+
+/* One axis of the slab test: narrows [*tn, *tf] by the axis' entry/exit
+ * distances t0, t1. A NaN (0 * inf) means the origin lies on a slab plane of
+ * an axis the ray is parallel to: the ray is then inside that (closed) slab
+ * and the axis is ignored. (Fixed from the first draft, where a NaN entry
+ * replaced tn and dropped tmin and the axes before it.) */
+static inline void rt_slab_axis(float t0, float t1, float *tn, float *tf)
+{
+    const bool ordered = (t0 == t0) & (t1 == t1);   /* neither is NaN; & keeps it branch-free */
+    const float n = rt_maxf(*tn, rt_minf(t0, t1)), f = rt_minf(*tf, rt_maxf(t0, t1));
+    *tn = ordered ? n : *tn;
+    *tf = ordered ? f : *tf;
+}
 
 /* Slab test of one child box against [tmin, tmax]; on a hit *tnear is the
  * entry distance (>= tmin). 6 subtractions, 6 multiplications, 12 compares:
  * the FLOP count the model charges comes from its config, not from here.
- * Empty slots (lo = +inf, hi = -inf) never hit. */
+ * Axes x, y, z in that order. Not for empty slots (see RT_META_EMPTY). */
 static inline bool rt_slab_test(const rt_ray_prep *r, const float lo[3], const float hi[3], float tmin, float tmax,
                                 float *tnear)
 {
     float tn = tmin, tf = tmax;
-    for (int a = 0; a < 3; a++) {
-        float t0 = (lo[a] - r->org[a]) * r->inv_dir[a];
-        float t1 = (hi[a] - r->org[a]) * r->inv_dir[a];
-        float near = rt_minf(t0, t1), far = rt_maxf(t0, t1);
-        /* (0 * inf) = NaN when the origin lies on a slab plane of an axis the
-         * ray is parallel to: comparisons with NaN are false, so the axis is
-         * ignored (the ray is inside that slab). */
-        tn = rt_maxf(tn, near);
-        tf = rt_minf(tf, far);
-    }
+    rt_slab_axis((lo[0] - r->org[0]) * r->inv_dir[0], (hi[0] - r->org[0]) * r->inv_dir[0], &tn, &tf);
+    rt_slab_axis((lo[1] - r->org[1]) * r->inv_dir[1], (hi[1] - r->org[1]) * r->inv_dir[1], &tn, &tf);
+    rt_slab_axis((lo[2] - r->org[2]) * r->inv_dir[2], (hi[2] - r->org[2]) * r->inv_dir[2], &tn, &tf);
     *tnear = tn;
     return tn <= tf;
 }

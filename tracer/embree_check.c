@@ -57,9 +57,9 @@ rt_embree *rt_embree_create(const rt_mesh *mesh, unsigned flags, char *err, size
     rtcAttachGeometry(e->scene, g);
     rtcReleaseGeometry(g);
     struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t0);
     rtcCommitScene(e->scene);
-    clock_gettime(CLOCK_MONOTONIC, &t1);
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t1);
     e->build_seconds = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
     const enum RTCError code = rtcGetDeviceError(e->device);
     if (code != RTC_ERROR_NONE) {
@@ -114,7 +114,7 @@ void rt_embree_intersect(const rt_embree *e, const rt_ray *ray, rt_hit *hit)
 
 const char *rt_embree_cause_name(rt_embree_cause c)
 {
-    static const char *names[RT_EMBREE_CAUSES] = {"same", "tie", "gap", "edge", "t_round", "other"};
+    static const char *names[RT_EMBREE_CAUSES] = {"same", "tie", "coplanar", "gap", "edge", "t_round", "other"};
     return (unsigned)c < RT_EMBREE_CAUSES ? names[c] : "?";
 }
 
@@ -173,6 +173,41 @@ static bool near_edge(const prim_exact *x)
     return fabs(m) <= x->err_bary;
 }
 
+/* The exact hit point is inside the triangle by more than the error bound. */
+static bool inside(const prim_exact *x)
+{
+    if (isnan(x->t))
+        return false;
+    return fmin(1.0 - x->beta - x->gamma, fmin(x->beta, x->gamma)) > x->err_bary;
+}
+
+/* Whether q's vertices lie in p's plane up to float rounding of coordinates. */
+static bool coplanar(const rt_mesh *m, uint32_t p, uint32_t q)
+{
+    const uint32_t *ip = m->tris + 3 * (size_t)p, *iq = m->tris + 3 * (size_t)q;
+    double P[3][3], Q[3][3], scale = 0.0;
+    for (int k = 0; k < 3; k++) {
+        const rt_vec3 a = m->verts[ip[k]], b = m->verts[iq[k]];
+        P[k][0] = a.x, P[k][1] = a.y, P[k][2] = a.z;
+        Q[k][0] = b.x, Q[k][1] = b.y, Q[k][2] = b.z;
+        for (int c = 0; c < 3; c++)
+            scale = fmax(scale, fmax(fabs(P[k][c]), fabs(Q[k][c])));
+    }
+    const double e1[3] = {P[1][0] - P[0][0], P[1][1] - P[0][1], P[1][2] - P[0][2]};
+    const double e2[3] = {P[2][0] - P[0][0], P[2][1] - P[0][1], P[2][2] - P[0][2]};
+    const double n[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+    const double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (len == 0.0)
+        return false;
+    const double tol = 4.0 * FLT_EPSILON * scale;
+    for (int k = 0; k < 3; k++) {
+        const double d = (n[0] * (Q[k][0] - P[0][0]) + n[1] * (Q[k][1] - P[0][1]) + n[2] * (Q[k][2] - P[0][2])) / len;
+        if (fabs(d) > tol)
+            return false;
+    }
+    return true;
+}
+
 static float wald_prim(const rt_mesh *m, const rt_ray *r, uint32_t p, bool *hit)
 {
     rt_tri48 w;
@@ -201,7 +236,8 @@ rt_embree_cause rt_embree_classify(const rt_mesh *mesh, const rt_ray *ray, const
     if (eh)
         xe = analyse(mesh, ray, ref->prim);
     if (oh && eh && !isnan(xo.t) && !isnan(xe.t) && fabs(xo.t - xe.t) <= 1e-6 * fmax(fabs(xo.t), fabs(xe.t)))
-        return RT_EMBREE_TIE;
+        return coplanar(mesh, ours->prim, ref->prim) && inside(&xo) && inside(&xe) ? RT_EMBREE_COPLANAR
+                                                                                     : RT_EMBREE_TIE;
     if (eh && (!oh || ref->t < ours->t)) {
         /* Embree found P before our hit (or we missed): why did we not take P? */
         bool whit;

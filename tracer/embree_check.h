@@ -18,7 +18,14 @@
  *             counts the bit-identical subset (exact_t) and the one needing
  *             the error bound (t_bound)
  *   TIE       different primitives whose exact (double) ray-plane distances
- *             agree within 1e-6 relative: shared edge/vertex or coplanar overlap
+ *             agree within 1e-6 relative: a hit on (or, within our edge
+ *             rounding, next to) a shared edge or vertex
+ *   COPLANAR  the same, the two triangles lie in one plane (every vertex
+ *             of one within 4 float ulps of the largest coordinate of the
+ *             other's plane) and the hit point is inside both (beyond the
+ *             error bound below): overlapping coplanar faces, e.g. the
+ *             duplicated double-sided walls of real scenes; either answer is
+ *             right
  *   GAP       Embree hits P, our Wald test rejects P, and the exact hit point
  *             on P lies within the float error bound of Wald's edge functions
  *             of an edge of P: the watertightness gap of Wald's test
@@ -50,7 +57,8 @@ enum { RT_EMBREE_ROBUST = 1 };
 /* Builds the Embree scene of mesh (copied). NULL with a message on failure. */
 rt_embree *rt_embree_create(const rt_mesh *mesh, unsigned flags, char *err, size_t errlen);
 void rt_embree_free(rt_embree *e);
-/* Seconds the last rt_embree_create spent in rtcCommitScene (Embree's build). */
+/* Process CPU seconds rt_embree_create spent in rtcCommitScene (Embree's
+ * build; single-threaded, so equal to wall time on an idle machine). */
 double rt_embree_build_seconds(const rt_embree *e);
 
 /* Embree's closest hit for one ray (prim = RT_NO_HIT on a miss; t = tmax then). */
@@ -59,6 +67,7 @@ void rt_embree_intersect(const rt_embree *e, const rt_ray *ray, rt_hit *hit);
 typedef enum rt_embree_cause {
     RT_EMBREE_SAME,
     RT_EMBREE_TIE,
+    RT_EMBREE_COPLANAR,
     RT_EMBREE_GAP,
     RT_EMBREE_EDGE,
     RT_EMBREE_T_ROUND,

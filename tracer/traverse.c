@@ -11,6 +11,13 @@ typedef struct stack_entry {
     float tnear;
 } stack_entry;
 
+static inline float load_f32(const uint8_t *p)
+{
+    float f;
+    memcpy(&f, p, 4);
+    return f;
+}
+
 void rt_trv_params_default(rt_trv_params *p, int width)
 {
     p->stack_depth = RT_STACK_DEPTH_DEFAULT;
@@ -61,23 +68,42 @@ bool rt_trace_ray(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray 
             stack_entry hits[RT_WIDTH_MAX];
             int nh = 0;
             for (int s = 0; s < width; s++) {
-                rt_child ch;
-                rt_node_child(node, s, &ch);
-                if (ch.meta & RT_META_EMPTY)
+                const uint8_t *slot = node + (size_t)s * RT_SLOT_BYTES;
+                uint32_t cref, cmeta;
+                memcpy(&cmeta, slot + 28, 4);
+                if (cmeta & RT_META_EMPTY)
                     break;   /* used slots come first */
+                /* element-wise loads keep the box in registers */
+                const float lo[3] = {load_f32(slot), load_f32(slot + 4), load_f32(slot + 8)};
+                const float hi[3] = {load_f32(slot + 12), load_f32(slot + 16), load_f32(slot + 20)};
                 c.box_tests++;
                 float tn;
-                if (!rt_slab_test(&rp, ch.lo, ch.hi, tmin, closest, &tn))
+                if (!rt_slab_test(&rp, lo, hi, tmin, closest, &tn))
                     continue;
+                memcpy(&cref, slot + 24, 4);
                 /* insertion keeps slot order among equal tnear: stable sort */
                 int i = nh++;
                 while (i > 0 && tn < hits[i - 1].tnear) {
                     hits[i] = hits[i - 1];
                     i--;
                 }
-                hits[i] = (stack_entry){ch.ref, ch.meta & RT_META_COUNT_MASK, tn};
+                hits[i] = (stack_entry){cref, cmeta & RT_META_COUNT_MASK, tn};
             }
             if (nh > 0) {
+                /* Start fetching every hit child now: incoherent rays are
+                 * memory-bound, and the misses then overlap. No effect on
+                 * results. */
+                for (int i = 0; i < nh; i++) {
+                    if (hits[i].meta == 0) {
+                        const uint8_t *cn = nodes + (uint64_t)hits[i].ref * nbytes;
+                        __builtin_prefetch(cn);
+                        __builtin_prefetch(cn + nbytes - 1);
+                    } else {
+                        const uint8_t *ct = tris + (uint64_t)hits[i].ref * RT_TRI_BYTES;
+                        __builtin_prefetch(ct);
+                        __builtin_prefetch(ct + (uint64_t)hits[i].meta * RT_TRI_BYTES - 1);
+                    }
+                }
                 for (int i = nh - 1; i >= 1; i--) {
                     if (sp == depth) {
                         ok = false;

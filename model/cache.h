@@ -16,15 +16,18 @@
  *    mem_req is queued on the miss port; the result says MISS (requester
  *    retries later) or BLOCKED (no MSHR / port slot / bank free this cycle:
  *    nothing changed, retry later). Accesses beyond the port count per cycle
- *    are BLOCKED too.
+ *    are BLOCKED too; each bank reads `ports` lines per cycle (bank = line
+ *    number mod banks), an access needing more lines of one bank holds it
+ *    for ceil(k / ports) cycles (cache_last_access_cycles).
  *  - The cache's kernel process sends queued misses downstream and installs
  *    returning fills (evicting the LRU way), freeing their MSHRs; a line is
  *    present from the cycle its fill is installed.
  *  - A cache can itself serve as the next level of others: cache_unit (the
  *    kernel module around this core) takes mem_req from upstream FIFOs,
  *    answers hits after its hit latency and misses after the fill.
- * Statistics: accesses, hits, misses, merged misses, blocked, fills,
- * evictions, per-bank conflicts; all registered with units/descriptions. */
+ * Statistics (cache_stats): accesses, hits, misses, MSHR allocations,
+ * merged lines, blocked by cause, bank conflicts, fills, evictions; the
+ * kernel module registers them with units/descriptions (cache_unit.h). */
 #ifndef RTSIM_MODEL_CACHE_H
 #define RTSIM_MODEL_CACHE_H
 

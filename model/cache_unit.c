@@ -32,7 +32,8 @@ static const ks_desc_item cache_unit_items[] = {
     {KS_DESC_STAT, "fills", "lines", "", "", "lines installed"},
     {KS_DESC_STAT, "evictions", "lines", "", "", "valid lines replaced"},
     {KS_DESC_STAT, "bytes_filled", "bytes", "", "", "bytes brought in from the next level"},
-    {KS_DESC_STAT, "hit_rate", "ratio", "", "", "hits / accesses"},
+    {KS_DESC_STAT, "hit_rate", "ratio", "", "", "hits / accesses (every retry of a looping ray is an access)"},
+    {KS_DESC_STAT, "line_hit_rate", "ratio", "", "", "hits / (hits + miss_lines): each missing line counted once"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
 const ks_module_desc cache_unit_desc = {
@@ -160,7 +161,7 @@ static int step(void *user, uint64_t cycle)
     if (f) {
         /* released waiters need room in the response pipeline */
         if (u->outq_cap - u->outq_n >= u->p.mshr_merge) {
-            mem_resp resp;
+            mem_resp resp = {0};
             ks_fifo_read(u->fill_in, &resp);
             if (cache_fill(u->core, &resp, now) < 0) {
                 fprintf(stderr, "%s: fill for 0x%llx (tag %llu) matches no MSHR\n", u->name,
@@ -209,6 +210,14 @@ static int step(void *user, uint64_t cycle)
     return progress;
 }
 
+static double line_hit_rate(const ks_stats *reg, void *user)
+{
+    (void)reg;
+    const cache_stats *s = user;
+    uint64_t d = s->hits + s->miss_lines;
+    return d ? (double)s->hits / (double)d : 0.0;
+}
+
 int cache_unit_register_stats(cache_unit *u, ks_stats *reg, const char *prefix)
 {
     const cache_stats *s = cache_stats_live(u->core);
@@ -234,7 +243,11 @@ int cache_unit_register_stats(cache_unit *u, ks_stats *reg, const char *prefix)
     snprintf(name, sizeof name, "%s.hit_rate", prefix);
     snprintf(num, sizeof num, "%s.hits", prefix);
     snprintf(den, sizeof den, "%s.accesses", prefix);
-    return ks_stat_ratio(reg, name, "ratio", "hits / accesses", num, den);
+    if (ks_stat_ratio(reg, name, "ratio", "hits / accesses (every retry of a looping ray is an access)", num, den))
+        return -1;
+    snprintf(name, sizeof name, "%s.line_hit_rate", prefix);
+    return ks_stat_formula(reg, name, "ratio", "hits / (hits + miss_lines): each missing line counted once",
+                           line_hit_rate, (void *)s);
 }
 
 int cache_unit_busy(const cache_unit *u)

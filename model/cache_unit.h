@@ -17,8 +17,10 @@
  *  - Idle skipping: the process sleeps when it can do nothing; it wakes on
  *    its FIFOs' events, on a miss allocated by a direct probe (the core's miss
  *    hook) and at the ready cycle of its oldest pending response.
- * Statistics: the core's counters as PREFIX.* plus PREFIX.hit_rate (see
- * cache_unit_desc). Deterministic. */
+ * Statistics: the core's counters as PREFIX.* plus PREFIX.hit_rate (hits /
+ * accesses, where every retry of a looping ray is an access) and
+ * PREFIX.line_hit_rate (hits / (hits + miss_lines), each missing line once);
+ * see cache_unit_desc. Deterministic. */
 #ifndef RTSIM_MODEL_CACHE_UNIT_H
 #define RTSIM_MODEL_CACHE_UNIT_H
 

@@ -46,7 +46,7 @@ static int step(void *user, uint64_t cycle)
     int progress = 0;
     const mem_req *r = ks_fifo_peek(m->req_in);
     if (r && m->n < m->cap) {
-        mem_req req;
+        mem_req req = {0};
         ks_fifo_read(m->req_in, &req);
         uint64_t start = cycle * FRAC > m->bus_free ? cycle * FRAC : m->bus_free;
         uint64_t xfer = (uint64_t)req.bytes * m->frac_per_byte;

@@ -44,7 +44,7 @@ static int step(void *user, uint64_t cycle)
     mem_dram_adapter *a = user;
     int progress = 0;
     if (a->free_head >= 0 && ks_fifo_can_read(a->mem_in) && ks_fifo_can_write(a->dram_req)) {
-        mem_req r;
+        mem_req r = {0};
         ks_fifo_read(a->mem_in, &r);
         int k = a->free_head;
         a->free_head = a->s[k].next_free;
@@ -60,7 +60,7 @@ static int step(void *user, uint64_t cycle)
         progress++;
     }
     if (ks_fifo_can_read(a->dram_resp) && ks_fifo_can_write(a->mem_out)) {
-        dram_port_resp d;
+        dram_port_resp d = {0};
         ks_fifo_read(a->dram_resp, &d);
         if (d.tag >= a->cap) {
             fprintf(stderr, "%s: DRAM response with unknown tag %llu\n", a->name, (unsigned long long)d.tag);

@@ -275,3 +275,31 @@ int memsys_busy(const memsys *ms)
             return 1;
     return 0;
 }
+
+static const struct {
+    const char *alias;
+    const ks_module_desc *desc;
+} module_aliases[] = {
+    {"node_l1", &cache_unit_desc},      {"node_l2", &cache_unit_desc},  {"prim", &cache_unit_desc},
+    {"l2_arbiter", &mem_arbiter_desc},  {"mem_arbiter", &mem_arbiter_desc}, {"fixed", &fixed_mem_desc},
+    {"memory", &mem_dram_adapter_desc}, {"lpddr3", &dram_port_desc},
+};
+static const ks_module_desc *const module_all[] = {&cache_unit_desc, &mem_arbiter_desc, &fixed_mem_desc,
+                                                   &mem_dram_adapter_desc, &dram_port_desc};
+
+const ks_module_desc *memsys_module_desc(const char *name)
+{
+    for (size_t i = 0; i < sizeof module_all / sizeof module_all[0]; i++)
+        if (strcmp(module_all[i]->name, name) == 0)
+            return module_all[i];
+    for (size_t i = 0; i < sizeof module_aliases / sizeof module_aliases[0]; i++)
+        if (strcmp(module_aliases[i].alias, name) == 0)
+            return module_aliases[i].desc;
+    return NULL;
+}
+
+void memsys_module_list(FILE *out)
+{
+    for (size_t i = 0; i < sizeof module_all / sizeof module_all[0]; i++)
+        fprintf(out, "%s%s", i ? ", " : "", module_all[i]->name);
+}

@@ -27,9 +27,11 @@
 
 #include <stddef.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "kernel/clock.h"
 #include "kernel/fifo.h"
+#include "kernel/module_desc.h"
 #include "kernel/sim.h"
 #include "kernel/stats.h"
 #include "model/cache.h"
@@ -65,6 +67,15 @@ struct dram_port *memsys_dram_port(memsys *ms);
 
 int memsys_fifo_count(const memsys *ms);
 ks_fifo *memsys_fifo_at(const memsys *ms, int i, const char **config_key);
+
+/* Description tables of the memory-side modules for --help-module: by module
+ * name ("cache", "arbiter", "fixed_mem", "dram_adapter", "dram") or by
+ * instance name ("node_l1", "node_l2", "prim" -> cache; "l2_arbiter",
+ * "mem_arbiter" -> arbiter; "memory" -> dram_adapter; "fixed" -> fixed_mem;
+ * "lpddr3" -> dram); NULL if unknown. */
+const ks_module_desc *memsys_module_desc(const char *name);
+/* Comma-separated module names, for messages. */
+void memsys_module_list(FILE *out);
 
 /* Work still held anywhere in the memory side (MSHRs, in-flight requests). */
 int memsys_busy(const memsys *ms);

@@ -211,28 +211,44 @@ static int step(void *user, uint64_t cycle)
     dram_port *p = user;
     const int64_t now = (int64_t)cycle;
     p->progress = 0;
+    /* Nothing in flight or offered: leave the controller at its last event (it catches
+     * up when work arrives or statistics are read), so a finished run's controller
+     * clock ends where the standalone driver's does. */
+    if (!dram_pending(p->c) && !p->ready_n && p->cur < 0 && ks_fifo_occupancy(p->req) == 0 &&
+        !(p->input_done && !p->drained))
+        return 0;
     dram_advance_to(p->c, now);
     deliver(p, now);
-    int accepted = 0;
-    if (!p->ready_n)
-        accepted = accept(p, now);
+    /* end of input: as the standalone driver, the cycle after the last burst entered
+     * (before this cycle's offer, so the drain starts with the next tick) */
     if (p->input_done && !p->drained && p->cur < 0 && ks_fifo_occupancy(p->req) == 0) {
         dram_set_write_high_pct(p->c, 0);
         p->drained = 1;
     }
+    int accepted = 0;
+    if (!p->ready_n)
+        accepted = accept(p, now);
     /* When must the next step run? Next cycle while requests can enter; else at the
      * controller's next event; FIFO events wake the process for everything else. */
+    uint64_t made = p->progress + (uint64_t)accepted;
     uint64_t next = UINT64_MAX;
-    if (accepted && !p->ready_n && (p->cur >= 0 || ks_fifo_can_read(p->req)))
+    const int drain_due = p->input_done && !p->drained && p->cur < 0 && ks_fifo_occupancy(p->req) == 0;
+    if ((accepted && !p->ready_n && (p->cur >= 0 || ks_fifo_can_read(p->req))) || drain_due)
         next = cycle + 1;
-    if (dram_pending(p->c)) {
-        const uint64_t e = (uint64_t)dram_next_event(p->c);
-        if (e < next)
-            next = e;
+    else if (dram_pending(p->c))
+        next = (uint64_t)dram_next_event(p->c);
+    /* a request still in flight in the FIFO (latency): wake at its ready time
+     * explicitly rather than rely on its written notification alone (an event keeps
+     * one pending notification, event.h) */
+    if (!p->ready_n && p->cur < 0 && ks_fifo_occupancy(p->req) && !ks_fifo_can_read(p->req)) {
+        const uint64_t k = ks_clock_cycle_at_or_after(p->clk, ks_fifo_head_ready_time(p->req));
+        if (k < next)
+            next = k;
     }
-    if (next != UINT64_MAX)
+    if (next == cycle + 1 && made == 0)
+        made = 1; /* must run next cycle: stay awake (cheaper than a timer); counts as progress */
+    if (next != UINT64_MAX && next != cycle + 1)
         ks_clocked_sleep_until_cycle(p->proc, next);
-    const uint64_t made = p->progress + (uint64_t)accepted;
     return made > 0x7fffffff ? 0x7fffffff : (int)made;
 }
 
@@ -295,11 +311,16 @@ static double port_stat(const ks_stats *reg, void *user)
 /* Statistic table: name, unit, description (also in dram_port_desc). */
 static const ks_desc_item port_items[] = {
     {KS_DESC_PARAM, "spec", "file", "model/data/lpddr3_1600.ini", "a dram_timing.h parameter file",
-     "speed grade: organization, timing constraints, controller policy and mapping"},
-    {KS_DESC_PARAM, "tck_ps", "int", "1250", "from the spec", "DRAM clock period (800 MHz for LPDDR3-1600)"},
-    {KS_DESC_PARAM, "read_queue", "int", "32", "1..4096 (spec)", "read queue entries per channel"},
-    {KS_DESC_PARAM, "write_queue", "int", "32", "1..4096 (spec)", "write queue entries per channel"},
-    {KS_DESC_PARAM, "row_hit_cap", "int", "16", "spec", "FR-FCFS row-hit cap"},
+     "speed grade: organization, timing constraints, controller policy and mapping; its keys below are set as "
+     "<module>.<section>.<key> (dram_spec_load overrides \"section.key=value\")"},
+    {KS_DESC_PARAM, "organization.tck_ps", "int", "1250", "100..100000", "DRAM clock period in ps (800 MHz)"},
+    {KS_DESC_PARAM, "organization.channels", "int", "2", "1..16, power of two", "32-bit channels"},
+    {KS_DESC_PARAM, "timing.nCL", "int", "12", "expression", "CAS latency; every [timing] name of the file likewise"},
+    {KS_DESC_PARAM, "controller.read_queue", "int", "32", "1..4096", "read queue entries per channel"},
+    {KS_DESC_PARAM, "controller.write_queue", "int", "32", "1..4096", "write queue entries per channel"},
+    {KS_DESC_PARAM, "controller.row_hit_cap", "int", "16", "0..1000000", "FR-FCFS row-hit cap"},
+    {KS_DESC_PARAM, "controller.mapping", "enum", "RoBaRaCoCh", "permutation of Ro Ba Ra Co Ch",
+     "address mapping, most significant field first"},
     {KS_DESC_PARAM, "power", "file", "model/data/lpddr3_1600_idd.ini", "optional",
      "currents and voltages for the energy statistic"},
     {KS_DESC_PORT, "req", "in fifo<dram_port_req>", "", "", "requests (address, size, read/write, tag)"},
@@ -354,10 +375,20 @@ static int reg_formula(dram_port *p, ks_stats *st, const char *name, int which)
     return ks_stat_formula(st, full, unit, desc, port_stat, &p->refs[which]);
 }
 
-static int register_stats(dram_port *p, ks_stats *st)
+static int register_stats(dram_port *p, ks_stats *st, char *err, size_t errlen)
 {
     char num[128], den[128], full[128];
     const char *unit, *desc = item_desc("read_latency_mean", &unit);
+    /* refuse before registering anything: a half-registered module would leave the
+     * registry pointing into a freed struct */
+    for (const ks_desc_item *d = dram_port_desc.items; d->kind != KS_DESC_END; d++) {
+        double v;
+        snprintf(full, sizeof full, "%s.%s", p->name, d->name);
+        if (d->kind == KS_DESC_STAT && ks_stats_value(st, full, &v) == 0) {
+            snprintf(err, errlen, "%s: cannot register statistics: '%s' already exists", p->name, full);
+            return -1;
+        }
+    }
     int rc = 0;
     rc |= reg_counter(p, st, "requests", &p->n_req);
     rc |= reg_counter(p, st, "read_requests", &p->n_read_req);
@@ -384,6 +415,8 @@ static int register_stats(dram_port *p, ks_stats *st)
     rc |= reg_formula(p, st, "burst_read_latency_mean", PS_BURST_READ_LAT);
     if (p->power)
         rc |= reg_formula(p, st, "energy_uJ", PS_ENERGY_UJ);
+    if (rc)
+        snprintf(err, errlen, "%s: cannot register statistics: %s", p->name, ks_stats_error(st));
     return rc;
 }
 
@@ -420,8 +453,7 @@ dram_port *dram_port_create(ks_sim *sim, const char *name, const dram_spec *spec
         return NULL;
     }
     dram_set_cmd_sink(p->c, on_cmd, p);
-    if (stats && register_stats(p, stats)) {
-        snprintf(err, errlen, "%s: cannot register statistics: %s", name, ks_stats_error(stats));
+    if (stats && register_stats(p, stats, err, errlen)) {
         dram_port_destroy(p);
         return NULL;
     }

@@ -137,15 +137,17 @@ typedef struct totals {
 } totals;
 
 /* One scene x machine x ray type: run the model, compare every ray. */
-static void check_case(const rt_scene *sc, const char *preset, const char *memory, bool diffuse, uint32_t w, uint32_t h,
-                       totals *tot)
+static void check_case_width(const rt_scene *sc, const char *preset, int width, const char *memory, bool diffuse,
+                             uint32_t w, uint32_t h, totals *tot)
 {
-    char name[400], err[4096], memset_[64];
-    snprintf(name, sizeof name, "system_%s_%s_%s_%ux%u_%s", sc->name, preset, diffuse ? "diffuse" : "primary", w, h,
-             memory);
+    char name[400], err[4096], memset_[64], widthset[64];
+    snprintf(name, sizeof name, "system_%s_%s%s%.0d_%s_%ux%u_%s", sc->name, preset, width ? "_width" : "", width,
+             diffuse ? "diffuse" : "primary", w, h, memory);
     tb_begin(name);
     snprintf(memset_, sizeof memset_, "memory.model=%s", memory);
-    const char *const sets[] = {memset_, NULL};
+    snprintf(widthset, sizeof widthset, "machine.branching=%d", width);
+    /* odd widths: unaligned nodes, served by a two-bank node L1 (paper 3.1) */
+    const char *const sets[] = {memset_, width ? widthset : NULL, "node_l1.banks=2", NULL};
     rtcfg *cfg = machine_cfg(preset, sets, err, sizeof err);
     if (!TB_CHECK(cfg != NULL, "config: %s", err)) {
         tb_end();
@@ -248,6 +250,12 @@ out:
     rt_bvh_image_free(&img);
     rtcfg_destroy(cfg);
     tb_end();
+}
+
+static void check_case(const rt_scene *sc, const char *preset, const char *memory, bool diffuse, uint32_t w, uint32_t h,
+                       totals *tot)
+{
+    check_case_width(sc, preset, 0, memory, diffuse, w, h, tot);
 }
 
 /* Runs a frame and returns cycles (0 on failure, message in err). */
@@ -424,6 +432,10 @@ int main(void)
         /* and the default LPDDR3 memory on one case per scene */
         check_case(&sc, "mbvh4", "lpddr3", true, small ? 8 : 48, small ? 5 : 27, &tot);
         if (i == 0) {
+            /* other widths (paper 3.1: MBVH3, MBVH5, MBVH6 were tried) */
+            for (int wd = 3; wd <= 8; wd += (wd == 3 ? 2 : 1))
+                if (wd != 4)
+                    check_case_width(&sc, "mbvh4", wd, "fixed", wd == 5, small ? 12 : 32, small ? 7 : 18, &tot);
             test_determinism_and_deadlock(&sc);
             test_banks_and_looping(&sc);
         }

@@ -40,6 +40,13 @@ static trv_pass_result take_target(trv_core *c, accel_ray *r, uint32_t ref, uint
     r->target_ref = ref;
     r->target_meta = meta;
     uint32_t count = meta & RT_META_COUNT_MASK;
+    /* host-side prefetch of the bytes the ray's next pass reads (a pipeline
+     * depth later): simulation speed only, no effect on the model */
+    const accel_image *img = c->img;
+    const uint8_t *next = count ? img->bytes + img->tri_base + (uint64_t)ref * RT_TRI_BYTES
+                                : img->bytes + img->node_base + (uint64_t)ref * img->node_bytes;
+    __builtin_prefetch(next);
+    __builtin_prefetch(next + 64);
     if (count) {
         r->phase = RAY_LEAF;
         r->tri_next = ref;

@@ -37,13 +37,13 @@ run() {
   rays=$(awk '/^rays/ { print $2 }' "$tmp/out")
 }
 
-printf '%-34s %10s %8s %10s %12s %12s %8s\n' benchmark cycles rays "host (s)" "Mcycles/s" "Krays/s" "target" >&2
+printf '%-40s %10s %8s %10s %12s %12s %8s\n' benchmark cycles rays "host (s)" "Mcycles/s" "Krays/s" "target" >&2
 row() { # name med cycles rays reference
   local mc kr ratio
   mc=$(awk -v c="$3" -v s="$2" 'BEGIN { printf "%.2f", c / s / 1e6 }')
   kr=$(awk -v r="$4" -v s="$2" 'BEGIN { printf "%.1f", r / s / 1e3 }')
   ratio=$(awk -v o="$2" -v r="$5" 'BEGIN { printf "%.2f", r / o }')
-  printf '%-34s %10s %8s %10.3f %12s %12s %7sx\n' "$1" "$3" "$4" "$2" "$mc" "$kr" "$ratio" >&2
+  printf '%-40s %10s %8s %10.3f %12s %12s %7sx\n' "$1" "$3" "$4" "$2" "$mc" "$kr" "$ratio" >&2
   echo "$1,$2,$5,$ratio" >>"$csv"
 }
 

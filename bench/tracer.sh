@@ -23,7 +23,9 @@ tmp=$(mktemp "$out.XXXXXX")
 trap 'rm -f "$tmp"' EXIT
 echo "benchmark,ours_median_s,reference_median_s,ratio" >"$tmp"
 
-bash bench/tracer/loader.sh "$build" >>"$tmp"
+if ! bash bench/tracer/loader.sh "$build" >>"$tmp"; then
+  echo "tracer bench: the loader bench (bench/tracer/loader.sh) failed; its rows are missing" >&2
+fi
 
 scenes=${RTSIM_SCENES:-}
 for d in ../shared/scenes ../../shared/scenes; do

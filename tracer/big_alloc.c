@@ -9,7 +9,7 @@ enum { HUGE_PAGE = 2u << 20, BIG_THRESHOLD = 4u << 20 };
 void *rt_big_alloc(size_t n)
 {
     if (n < BIG_THRESHOLD)
-        return malloc(n ? n : 1);
+        return aligned_alloc(16, (n + 15) & ~(size_t)15 ? (n + 15) & ~(size_t)15 : 16);   /* SSE loads */
     void *p = NULL;
     const size_t rounded = (n + HUGE_PAGE - 1) & ~(size_t)(HUGE_PAGE - 1);
     if (posix_memalign(&p, HUGE_PAGE, rounded) != 0)

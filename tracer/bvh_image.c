@@ -34,7 +34,7 @@ bool rt_bvh_layout_image(const rt_mesh *mesh, const rt_bvh2 *b, const rt_bvh_par
         inner2 += b->nodes[i].count == 0;
     const uint32_t cap = inner2 ? inner2 : 1;
     wide_node *w = rt_big_alloc((size_t)cap * sizeof *w);
-    walk_entry *st = malloc(((size_t)cap * RT_WIDTH_MAX + 1) * sizeof *st);
+    walk_entry *st = malloc(((size_t)cap + 1) * sizeof *st);   /* each wide node is pushed once */
     if (!w || !st) {
         free(w), free(st);
         return false;

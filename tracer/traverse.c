@@ -30,8 +30,11 @@ static inline void emit(rt_trv_event_fn fn, void *user, rt_trv_event_kind kind, 
     fn(user, &ev);
 }
 
-bool rt_trace_ray(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray *ray, rt_hit *hit,
-                  rt_trv_counts *counts, rt_trv_event_fn fn, void *user)
+/* The traversal with the node width as a compile-time constant for the
+ * common widths (one inlined copy each, see rt_trace_ray). */
+static inline __attribute__((always_inline)) bool trace(const rt_bvh_image *img, const rt_trv_params *p,
+                                                        const rt_ray *ray, rt_hit *hit, rt_trv_counts *counts,
+                                                        rt_trv_event_fn fn, void *user, const int width)
 {
     stack_entry stack[4096];
     int depth = p->stack_depth;
@@ -39,7 +42,6 @@ bool rt_trace_ray(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray 
         depth = 4096;   /* the documented range is 1..4096 */
     if (depth < 1)
         depth = 1;
-    const int width = img->width;
     const bool cull = p->distance_cull;
     const uint8_t *nodes = img->bytes + img->node_base;
     const uint8_t *tris = img->bytes + img->tri_base;
@@ -125,8 +127,14 @@ bool rt_trace_ray(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray 
             if (fn)
                 emit(fn, user, RT_EV_LEAF, ref, meta, 0.0f);
             for (uint32_t i = 0; i < meta; i++) {
+                const uint8_t *tb = tris + (uint64_t)(ref + i) * RT_TRI_BYTES;
                 rt_tri48 tri;
-                rt_tri_decode(tris + (uint64_t)(ref + i) * RT_TRI_BYTES, &tri);
+                tri.n_u = load_f32(tb), tri.n_v = load_f32(tb + 4), tri.n_d = load_f32(tb + 8);
+                memcpy(&tri.k, tb + 12, 4);
+                tri.b_nu = load_f32(tb + 16), tri.b_nv = load_f32(tb + 20), tri.b_d = load_f32(tb + 24);
+                memcpy(&tri.prim, tb + 28, 4);
+                tri.c_nu = load_f32(tb + 32), tri.c_nv = load_f32(tb + 36), tri.c_d = load_f32(tb + 40);
+                memcpy(&tri.flags, tb + 44, 4);
                 c.tri_tests++;
                 float t, u, v;
                 const bool h = rt_wald_test(&tri, org, dir, tmin, closest, &t, &u, &v);
@@ -165,4 +173,32 @@ out:
     if (counts)
         *counts = c;
     return ok;
+}
+
+static bool trace_w2(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray *ray, rt_hit *hit,
+                     rt_trv_counts *counts, rt_trv_event_fn fn, void *user)
+{
+    return trace(img, p, ray, hit, counts, fn, user, 2);
+}
+
+static bool trace_w4(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray *ray, rt_hit *hit,
+                     rt_trv_counts *counts, rt_trv_event_fn fn, void *user)
+{
+    return trace(img, p, ray, hit, counts, fn, user, 4);
+}
+
+static bool trace_any(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray *ray, rt_hit *hit,
+                      rt_trv_counts *counts, rt_trv_event_fn fn, void *user)
+{
+    return trace(img, p, ray, hit, counts, fn, user, img->width);
+}
+
+bool rt_trace_ray(const rt_bvh_image *img, const rt_trv_params *p, const rt_ray *ray, rt_hit *hit,
+                  rt_trv_counts *counts, rt_trv_event_fn fn, void *user)
+{
+    if (img->width == 2)
+        return trace_w2(img, p, ray, hit, counts, fn, user);
+    if (img->width == 4)
+        return trace_w4(img, p, ray, hit, counts, fn, user);
+    return trace_any(img, p, ray, hit, counts, fn, user);
 }

@@ -20,8 +20,13 @@
  *     tnear > closest is discarded (CULL) and POP repeats; otherwise the entry
  *     is the next target (LEAF or VISIT).
  * Stack depth is bounded (default 64, the paper's); an overflow is an error
- * for the ray ("stack too small for the scene"), never silent.
- * Each step is reported through an optional event callback (trace logs, tests). */
+ * for the ray ("stack too small for the scene"), never silent: rt_trace_ray
+ * returns false and the event stream ends without DONE.
+ * Each step is reported through an optional event callback (trace logs, tests):
+ * VISIT, then that node's PUSHes (farthest first), then the nearest child as
+ * VISIT or LEAF (or POP/CULL/DONE when no child was hit); LEAF is followed by
+ * one TRI per triangle; DONE is last. Events and counts never change a result.
+ * Implementation and measured figures: tracer/traverse.c, docs/tracer-bvh.md. */
 #ifndef RTSIM_TRACER_TRAVERSE_H
 #define RTSIM_TRACER_TRAVERSE_H
 
@@ -62,7 +67,10 @@ typedef struct rt_trv_params {
 
 void rt_trv_params_default(rt_trv_params *p, int width);
 
-/* Per-ray counts (summed by callers for frame statistics). */
+/* Per-ray counts (summed by callers for frame statistics): box_tests = used
+ * slots slab-tested; pops = popped entries processed, culls = popped entries
+ * discarded (pushes = pops + culls on a completed ray); max_stack = deepest
+ * stack after a visit's pushes. */
 typedef struct rt_trv_counts {
     uint32_t visits, box_tests, leaves, tri_tests, pushes, pops, culls, max_stack;
 } rt_trv_counts;

@@ -45,9 +45,9 @@ static void usage(FILE *out)
             "--heatmap FILE      simulated cycles per pixel (.png or .exr)\n"
             "--autosize-fifos F  run, then write the machine with every FIFO shrunk to the\n"
             "                    first power of two above its maximum occupancy (paper sec. 3)\n"
-            "--help-module NAME  parameters, ports and statistics of a module (trv, ist, sched)\n"
-            "                    or the keys of a configuration section (node_l1, node_l2, prim,\n"
-            "                    memory, fifo, machine)\n");
+            "--help-module NAME  parameters, ports and statistics of a module (trv, ist, sched,\n"
+            "                    cache, arbiter, fixed_mem, dram, ...) and the keys of its\n"
+            "                    configuration section (node_l1, node_l2, prim, memory, fifo, machine)\n");
 }
 
 static int bad(const char *fmt, const char *a, const char *b)

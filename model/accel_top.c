@@ -437,11 +437,12 @@ const ks_module_desc *accel_module_desc(const char *name)
     for (size_t i = 0; i < sizeof all_descs / sizeof all_descs[0]; i++)
         if (!strcmp(all_descs[i]->name, name))
             return all_descs[i];
-    return NULL;
+    return memsys_module_desc(name);   /* caches, arbiters, memories */
 }
 
 void accel_module_list(FILE *out)
 {
     for (size_t i = 0; i < sizeof all_descs / sizeof all_descs[0]; i++)
-        fprintf(out, "%s%s", i ? ", " : "", all_descs[i]->name);
+        fprintf(out, "%s, ", all_descs[i]->name);
+    memsys_module_list(out);
 }

@@ -52,6 +52,7 @@ expect accel_cli_version 0 "git" -- "$bin" --version
 expect accel_cli_help_module_trv 0 "stack_depth" -- "$bin" --help-module trv
 expect accel_cli_help_module_ist 0 "flops_per_test" -- "$bin" --help-module ist
 expect accel_cli_help_module_cache_section 0 "mshrs" -- "$bin" --help-module node_l1
+expect accel_cli_help_module_memory_unit 0 "mshr" -- "$bin" --help-module cache
 expect accel_cli_help_module_unknown 2 "no such module" -- "$bin" --help-module nosuch
 expect accel_cli_bad_option 2 "usage" -- "$bin" --bogus
 expect accel_cli_bad_rays 2 "--rays sideways: allowed values are primary, diffuse" -- "$bin" --rays sideways

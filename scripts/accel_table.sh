@@ -2,7 +2,7 @@
 # BVH2 vs MBVH4 on scenes and ray types (issue 5, paper Table 2's directions):
 # MRPS, DRAM traffic, cache hit rates, from rtsim's JSON statistics.
 #   scripts/accel_table.sh [BUILD_DIR] [RES] [SCENE...]
-# Defaults: build, 1280x720, the four built-in scenes. Prints a Markdown table
+# Defaults: build, 1280x720, the four built-in scenes; RAYS="primary" limits the ray types. Prints a Markdown table
 # on stdout; the JSON of every run stays in BUILD_DIR/accel_table/.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -17,7 +17,7 @@ mkdir -p "$out"
 echo "| scene | rays | machine | rays traced | cycles | MRPS | DRAM MB | DRAM GB/s | node L1 hit | node L2 hit | prim hit | host s |"
 echo "|---|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 for s in "${scenes[@]}"; do
-  for r in primary diffuse; do
+  for r in ${RAYS:-primary diffuse}; do
     for m in bvh2 mbvh4; do
       j=$out/$(basename "$s")_${r}_${m}_$res.json
       t0=$(date +%s.%N)

@@ -78,14 +78,13 @@ static inline int sort_net_apply(const sort_net *net, sort_key *keys)
  * +0, so equal distances tie as in the reference), bits 0..7 = slot. */
 static inline uint64_t sort_key_pack(float tnear, unsigned slot, bool hit)
 {
-    if (!hit)
-        return ((uint64_t)1 << 40) | slot;
-    if (tnear == 0.0f)
-        tnear = 0.0f;
+    float t = tnear + 0.0f;   /* -0 + +0 = +0 (round to nearest): equal zeros tie */
     uint32_t u;
-    memcpy(&u, &tnear, sizeof u);
-    u = (u & 0x80000000u) ? ~u : (u | 0x80000000u);
-    return ((uint64_t)u << 8) | slot;
+    memcpy(&u, &t, sizeof u);
+    u ^= (uint32_t)((int32_t)u >> 31) | 0x80000000u;   /* negatives: flip all; positives: flip the sign */
+    uint64_t k = ((uint64_t)u << 8) | slot;
+    uint64_t miss = ((uint64_t)1 << 40) | slot;
+    return hit ? k : miss;   /* a conditional move, no branch */
 }
 static inline unsigned sort_key_slot(uint64_t k) { return (unsigned)(k & 0xFF); }
 static inline bool sort_key_hit(uint64_t k) { return !(k >> 40); }

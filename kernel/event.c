@@ -19,11 +19,9 @@ void ks_event_destroy(ks_event *ev)
     /* Drop queued entries that point at this event (rare: only when it is
      * destroyed with a notification pending). */
     if (ev->pending == KS_PEND_TIMED) {
-        for (size_t i = 0; i < sim->n_heap; i++) {
-            uint32_t slot = (uint32_t)(sim->heap[i].code >> 2) & ((1u << KS_QSLOT_BITS) - 1);
-            if (sim->slot_obj[slot] == ev)
-                sim->slot_obj[slot] = NULL; /* the entry fires as a no-op */
-        }
+        for (size_t i = 0; i < sim->n_heap; i++)
+            if (sim->heap[i].obj == ev)
+                sim->heap[i].obj = NULL, sim->heap[i].key = (sim->heap[i].key & ~(uint64_t)3) | KS_K_EVENT;
     }
     if (ev->pending == KS_PEND_DELTA) {
         for (size_t i = 0; i < sim->n_delta; i++)

@@ -21,16 +21,11 @@ enum { KS_K_EVENT = 0, KS_K_TIMEOUT = 1, KS_K_CLOCK = 2 };
 enum { KS_PEND_NONE = 0, KS_PEND_DELTA = 1, KS_PEND_TIMED = 2 };
 enum { KS_DYN_STATIC = 0, KS_DYN_EVENT = 1, KS_DYN_TIME = 2, KS_DYN_EVENT_TIMEOUT = 3 };
 
-/* A timed-queue entry: 16 bytes. code = seq << 24 | slot << 2 | kind, where
- * seq is the notification's sequence number (so (t, code) orders equal
- * times by notification) and slot indexes the sim's table of queued
- * objects. */
 typedef struct ks_qentry {
     ks_time t;
-    uint64_t code;
+    uint64_t key;
+    void *obj;
 } ks_qentry;
-#define KS_QSLOT_BITS 22
-#define KS_QSEQ_BITS 40
 
 typedef struct ks_dentry {
     void *obj;
@@ -118,9 +113,6 @@ struct ks_sim {
     uint64_t seq;
     ks_qentry *heap;
     size_t n_heap, cap_heap;
-    void **slot_obj;           /* object of each queue slot */
-    uint32_t *free_slots;      /* stack of free slots */
-    size_t n_slots, n_free;
     ks_method **run;
     size_t n_run, cap_run;
     ks_dentry *delta, *delta2;

@@ -84,8 +84,6 @@ void ks_sim_destroy(ks_sim *sim)
     free(sim->clocks);
     free(sim->methods);
     free(sim->heap);
-    free(sim->slot_obj);
-    free(sim->free_slots);
     free(sim->run);
     free(sim->delta);
     free(sim->delta2);
@@ -122,34 +120,13 @@ const char *ks_run_status_name(ks_run_status st)
 }
 
 
-/* ---- timed queue: 4-ary min-heap of 16-byte (t, code) entries ----
+/* ---- timed queue: 4-ary min-heap on (t, key) ----
  * A 4-ary heap halves the depth of a binary one (5 levels for 1000 entries)
- * and its four children share a cache line; an entry is compared as one
- * 128-bit number (t >= 0), which the compiler does without branches. The
- * object an entry refers to lives in a slot table, which keeps entries at
- * 16 bytes. */
+ * and its four children share a cache line or two; (t, key) is compared as
+ * one 128-bit number (t >= 0). */
 
 typedef unsigned __int128 ks_u128;
-static inline ks_u128 qk(const ks_qentry *e) { return ((ks_u128)(uint64_t)e->t << 64) | e->code; }
-
-static __attribute__((noinline)) uint32_t new_slot(ks_sim *sim)
-{
-    if (sim->n_slots >= ((size_t)1 << KS_QSLOT_BITS)) {
-        fprintf(stderr, "rtsim kernel: more than %u timed notifications queued at once\n",
-                1u << KS_QSLOT_BITS);
-        abort();
-    }
-    size_t n = sim->n_slots ? sim->n_slots * 2 : 64;
-    if (n > ((size_t)1 << KS_QSLOT_BITS))
-        n = (size_t)1 << KS_QSLOT_BITS;
-    sim->slot_obj = ks__xrealloc(sim->slot_obj, n * sizeof *sim->slot_obj);
-    sim->free_slots = ks__xrealloc(sim->free_slots, n * sizeof *sim->free_slots);
-    for (size_t i = n; i > sim->n_slots + 1; i--)
-        sim->free_slots[sim->n_free++] = (uint32_t)(i - 1);
-    uint32_t s = (uint32_t)sim->n_slots;
-    sim->n_slots = n;
-    return s;
-}
+static inline ks_u128 qk(const ks_qentry *e) { return ((ks_u128)(uint64_t)e->t << 64) | e->key; }
 
 void ks__heap_push(ks_sim *sim, ks_time t, uint64_t key, void *obj)
 {
@@ -157,14 +134,7 @@ void ks__heap_push(ks_sim *sim, ks_time t, uint64_t key, void *obj)
         sim->cap_heap = sim->cap_heap ? sim->cap_heap * 2 : 64;
         sim->heap = ks__xrealloc(sim->heap, sim->cap_heap * sizeof *sim->heap);
     }
-    uint64_t seq = key >> 2;
-    if (seq >> KS_QSEQ_BITS) {
-        fprintf(stderr, "rtsim kernel: notification sequence numbers exhausted (2^40)\n");
-        abort();
-    }
-    uint32_t slot = sim->n_free ? sim->free_slots[--sim->n_free] : new_slot(sim);
-    sim->slot_obj[slot] = obj;
-    ks_qentry e = {t, (seq << 24) | ((uint64_t)slot << 2) | (key & 3)};
+    ks_qentry e = {t, key, obj};
     ks_u128 k = qk(&e);
     ks_qentry *h = sim->heap;
     size_t i = sim->n_heap++;
@@ -207,15 +177,6 @@ static void heap_pop(ks_sim *sim)
         i = m;
     }
     h[i] = last;
-}
-
-/* Object and owner key (seq << 2 | kind) of an entry; frees its slot. */
-static inline void *take_entry(ks_sim *sim, uint64_t code, uint64_t *key)
-{
-    uint32_t slot = (uint32_t)(code >> 2) & ((1u << KS_QSLOT_BITS) - 1);
-    *key = ((code >> 24) << 2) | (code & 3);
-    sim->free_slots[sim->n_free++] = slot;
-    return sim->slot_obj[slot];
 }
 
 /* ---- delta notifications and runnable queue ---- */
@@ -532,10 +493,9 @@ ks_run_status ks_sim_run(ks_sim *sim, ks_time until)
         }
         sim->now = t;
         do {
-            uint64_t code = sim->heap[0].code, key;
+            ks_qentry e = sim->heap[0];
             heap_pop(sim);
-            void *obj = take_entry(sim, code, &key);
-            fire_entry(obj, key);
+            fire_entry(e.obj, e.key);
         } while (sim->n_heap && sim->heap[0].t == t);
         sim->deltas++;
     }

@@ -91,6 +91,7 @@ static bool validate(const rt_mesh *m, const rt_bvh_params *p, const rt_bvh_imag
         node_seen[n] = 1;
         max_depth = depth > max_depth ? depth : max_depth;
         int used = 0, inner = 0;
+        uint32_t prev_inner_ref = 0;
         bool empty_seen = false;
         float nlo[3] = {INFINITY, INFINITY, INFINITY}, nhi[3] = {-INFINITY, -INFINITY, -INFINITY};
         for (int s = 0; s < img->width && ok; s++) {
@@ -117,7 +118,11 @@ static bool validate(const rt_mesh *m, const rt_bvh_params *p, const rt_bvh_imag
             for (int a = 0; a < 3; a++)
                 nlo[a] = fminf(nlo[a], ch.lo[a]), nhi[a] = fmaxf(nhi[a], ch.hi[a]);
             if (!rt_child_is_leaf(&ch)) {
-                inner++;
+                if (inner++ > 0 && ch.ref != prev_inner_ref + 1) {
+                    ok = BAD("node %u slot %d: inner children not a consecutive sibling block", n, s);
+                    break;
+                }
+                prev_inner_ref = ch.ref;
                 if (ch.ref == 0 || ch.ref >= img->nnodes) {
                     ok = BAD("node %u slot %d: child node %u out of range", n, s, ch.ref);
                     break;

@@ -14,7 +14,7 @@
  * give the same bytes (and so the same hash) on every run.
  * Errors (bad params, empty mesh, index out of range, non-finite vertex)
  * return false with a message naming the parameter and its allowed range.
- * Layout details (depth-first preorder nodes, single-leaf root, statistics
+ * Layout details (depth-first node order in sibling blocks, single-leaf root, statistics
  * definitions): tracer/bvh_image.h; algorithm and figures: docs/tracer-bvh.md. */
 #ifndef RTSIM_TRACER_BVH_H
 #define RTSIM_TRACER_BVH_H

@@ -1,6 +1,7 @@
 /* bvh_image.c — see bvh_image.h. Two passes: the first collapses the BVH2
- * into N-wide nodes in depth-first preorder (explicit stack: SAH trees of
- * degenerate inputs can be deep), the second writes node and triangle bytes. */
+ * into N-wide nodes depth-first, numbering each node's inner children as a
+ * consecutive block (explicit stack: SAH trees of degenerate inputs can be
+ * deep), the second writes node and triangle bytes in node order. */
 #include "tracer/bvh_image.h"
 
 #include <math.h>
@@ -18,7 +19,7 @@ typedef struct wide_node {
 } wide_node;
 
 typedef struct walk_entry {
-    uint32_t bvh2, parent, slot, depth;
+    uint32_t bvh2, index, unused, depth;
 } walk_entry;
 
 static void put_u32(uint8_t *p, uint32_t v) { memcpy(p, &v, 4); }
@@ -46,22 +47,22 @@ bool rt_bvh_layout_image(const rt_mesh *mesh, const rt_bvh2 *b, const rt_bvh_par
         w[0].n = 1, w[0].child[0] = 0, w[0].wide[0] = 0;
         nw = 1, max_depth = 1;
     } else {
-        st[sp++] = (walk_entry){0, UINT32_MAX, 0, 1};
+        st[sp++] = (walk_entry){0, 0, 0, 1};
+        nw = 1;
     }
     while (sp > 0) {
         const walk_entry e = st[--sp];
-        const uint32_t me = nw++;
-        if (e.parent != UINT32_MAX)
-            w[e.parent].wide[e.slot] = me;
+        const uint32_t me = e.index;
         if (e.depth > max_depth)
             max_depth = e.depth;
         wide_node *wn = &w[me];
         wn->n = (uint32_t)rt_mbvh_collapse_children(b, e.bvh2, width, wn->child);
-        for (int s = (int)wn->n - 1; s >= 0; s--) {
-            wn->wide[s] = 0;
+        /* the inner children get consecutive numbers now (a sibling block) */
+        for (uint32_t s = 0; s < wn->n; s++)
+            wn->wide[s] = b->nodes[wn->child[s]].count == 0 ? nw++ : 0;
+        for (int s = (int)wn->n - 1; s >= 0; s--)
             if (b->nodes[wn->child[s]].count == 0)
-                st[sp++] = (walk_entry){wn->child[s], me, (uint32_t)s, e.depth + 1};
-        }
+                st[sp++] = (walk_entry){wn->child[s], wn->wide[s], 0, e.depth + 1};
     }
     free(st);
 

@@ -2,8 +2,10 @@
  * (mbvh_collapse.h), out as the memory image of bvh.h / bvh_layout.h, and
  * measures it (rt_bvh_stats). Internal to tracer/; rt_bvh_build calls it.
  *
- * Contract: N-wide nodes are numbered in depth-first preorder (slot 0's
- * subtree first), so a node's first inner child usually follows it; the root
+ * Contract: nodes are numbered depth-first (slot 0's subtree first) in
+ * sibling blocks: when a node is laid out, its inner children get
+ * consecutive numbers, so siblings (often visited together) share cache
+ * lines and DRAM rows; the root
  * is node 0 (a BVH2 that is a single leaf gets a root with that leaf in slot
  * 0 and the other slots empty). Triangles are written leaf by leaf in the
  * order the leaves appear walking the nodes by index and slots in order.

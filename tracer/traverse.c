@@ -92,10 +92,10 @@ static inline __attribute__((always_inline)) bool trace(const rt_bvh_image *img,
                 hits[i] = (stack_entry){cref, cmeta & RT_META_COUNT_MASK, tn};
             }
             if (nh > 0) {
-                /* Start fetching every hit child now: incoherent rays are
-                 * memory-bound, and the misses then overlap. No effect on
-                 * results. */
-                for (int i = 0; i < nh; i++) {
+                /* Start fetching the pushed children now: incoherent rays
+                 * are memory-bound, and the misses then overlap (the nearest
+                 * is read right away anyway). No effect on results. */
+                for (int i = 1; i < nh; i++) {
                     if (hits[i].meta == 0) {
                         const uint8_t *cn = nodes + (uint64_t)hits[i].ref * nbytes;
                         __builtin_prefetch(cn);

@@ -18,9 +18,7 @@ runs=${RUNS:-5}
 scale=${KERNEL_BENCH_SCALE:-1}
 ours=$build/bench/kernel_ours
 ref=$build/bench/kernel_systemc
-for b in "$ours" "$ref"; do
-  if [ ! -x "$b" ]; then make -s BUILD="$build" "$b" >&2; fi
-done
+make -s BUILD="$build" "$ours" "$ref" >&2 # incremental: rebuilds stale programs
 tmp=$build/bench/tmp
 mkdir -p "$tmp"
 n10m=$(awk -v s="$scale" 'BEGIN { printf "%d", 10000000 * s }')

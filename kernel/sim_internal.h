@@ -1,7 +1,7 @@
 /* sim_internal.h — private structures shared by the kernel's .c files.
  *
  * Not part of the API: model code must include only the public headers.
- * Scheduling data: a binary min-heap of timed entries ordered by (time, key)
+ * Scheduling data: a 4-ary min-heap of timed entries ordered by (time, key)
  * where key = sequence number << 2 | kind, so equal times fire in notification
  * order; entries are invalidated lazily (the owner stores the key of its one
  * valid entry). Delta notifications go to a list of (object, key) entries

@@ -90,21 +90,6 @@ static int bp_prod(void *u, uint64_t cycle)
     return 1;
 }
 
-static int bp_cons(void *u, uint64_t cycle)
-{
-    bp_ctx *c = u;
-    if (cycle % 4 != 0) { /* serves one item every 4th cycle */
-        ks_clocked_sleep_until_cycle(NULL, 0);
-        return 0;
-    }
-    uint32_t v;
-    if (!ks_fifo_read(c->f, &v))
-        return 0;
-    if (c->ngot < 64)
-        c->got[c->ngot++] = v;
-    return 1;
-}
-
 static ks_clocked *g_cons;
 static int bp_cons_wrap(void *u, uint64_t cycle)
 {
@@ -125,7 +110,6 @@ static int bp_cons_wrap(void *u, uint64_t cycle)
 static void test_backpressure(void)
 {
     tb_begin("fifo_capacity_and_back_pressure");
-    (void)bp_cons;
     ks_sim *sim = ks_sim_create();
     ks_clock *clk = ks_clock_create(sim, "clk", 0);
     bp_ctx c = {0};

@@ -1,0 +1,63 @@
+#!/usr/bin/env bash
+# Accelerator model speed (issue 5): simulated cycles and rays per host second
+# of the full model (scheduler, 4 TRVs, IST, node L1s, L2, primitive cache,
+# LPDDR3) on the built-in interior scene, BVH2 and MBVH4, primary and diffuse,
+# VCD off and on, and diffuse with the fixed-latency memory fidelity. Host time is the run alone (rtsim's "host" line: no scene
+# loading or BVH build), median of RUNS (5) runs, one core.
+#   bash bench/accel.sh [BUILD_DIR]
+# Targets (SPEC/issue 5): >= 2 M simulated cycles per host second with VCD
+# off; VCD on at most 3x slower. The CSV's reference_median_s is the target
+# time (cycles / 2e6 s, or 3 x the VCD-off median), so ratio >= 1 = target met.
+# Writes BUILD_DIR/bench/accel.csv and prints a table.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build}
+runs=${RUNS:-5}
+bin=$build/bin/rtsim
+[ -x "$bin" ] || make -s BUILD="$build" "$bin" >&2
+out=$build/bench
+mkdir -p "$out"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+csv=$out/accel.csv.tmp
+echo "benchmark,ours_median_s,reference_median_s,ratio" >"$csv"
+
+median() { sort -g | awk '{ v[NR] = $1 } END { if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+
+# run NAME ARGS... -> sets med (s), cycles, rays
+run() {
+  local name=$1; shift
+  : >"$tmp/times"
+  for _ in $(seq "$runs"); do
+    "$bin" "$@" >"$tmp/out"
+    awk '/^host/ { print $2 }' "$tmp/out" >>"$tmp/times"
+  done
+  med=$(median <"$tmp/times")
+  cycles=$(awk '/^cycles/ { print $2 }' "$tmp/out")
+  rays=$(awk '/^rays/ { print $2 }' "$tmp/out")
+}
+
+printf '%-40s %10s %8s %10s %12s %12s %8s\n' benchmark cycles rays "host (s)" "Mcycles/s" "Krays/s" "target" >&2
+row() { # name med cycles rays reference
+  local mc kr ratio
+  mc=$(awk -v c="$3" -v s="$2" 'BEGIN { printf "%.2f", c / s / 1e6 }')
+  kr=$(awk -v r="$4" -v s="$2" 'BEGIN { printf "%.1f", r / s / 1e3 }')
+  ratio=$(awk -v o="$2" -v r="$5" 'BEGIN { printf "%.2f", r / o }')
+  printf '%-40s %10s %8s %10.3f %12s %12s %7sx\n' "$1" "$3" "$4" "$2" "$mc" "$kr" "$ratio" >&2
+  echo "$1,$2,$5,$ratio" >>"$csv"
+}
+
+for m in bvh2 mbvh4; do
+  run "interior_320x180_${m}_primary" interior --res 320x180 --machine "$m" --rays primary
+  off=$med
+  row "interior_320x180_${m}_primary" "$med" "$cycles" "$rays" "$(awk -v c="$cycles" 'BEGIN { print c / 2e6 }')"
+  run "interior_320x180_${m}_primary_vcd" interior --res 320x180 --machine "$m" --rays primary --vcd "$tmp/w.vcd"
+  row "interior_320x180_${m}_primary_vcd" "$med" "$cycles" "$rays" "$(awk -v o="$off" 'BEGIN { print 3 * o }')"
+  run "interior_160x90_${m}_diffuse" interior --res 160x90 --machine "$m" --rays diffuse
+  row "interior_160x90_${m}_diffuse" "$med" "$cycles" "$rays" "$(awk -v c="$cycles" 'BEGIN { print c / 2e6 }')"
+  # the same with the fixed-latency memory fidelity: the LPDDR3 model's share
+  run "interior_160x90_${m}_diffuse_fixedmem" interior --res 160x90 --machine "$m" --rays diffuse --set memory.model=fixed
+  row "interior_160x90_${m}_diffuse_fixedmem" "$med" "$cycles" "$rays" "$(awk -v c="$cycles" 'BEGIN { print c / 2e6 }')"
+done
+mv "$csv" "$out/accel.csv"
+echo "accel bench: $out/accel.csv (ratio >= 1: at least 2 M cycles/s, or VCD within 3x)" >&2

@@ -1,0 +1,144 @@
+/* rtsim_frame.h — the bridge between the software ray tracer (tracer/) and
+ * the accelerator model (model/), shared by cli/rtsim.c and the system
+ * testbench: the model may not include the tracer, so the rays are made here
+ * and handed in through accel_source callbacks.
+ *
+ * Contract: rtsim_frame_init() loads nothing itself; it takes a loaded scene
+ * and a built BVH image and a camera, and provides
+ *   - primary rays in pixel order (camera.h),
+ *   - for diffuse runs the bounce ray of each completed ray (bounce.h, the
+ *     same seed convention as the tracer, so paths do not depend on the order
+ *     the hardware completes rays in),
+ *   - per-pixel simulated cycles (sum of its rays' latencies) for heatmaps,
+ *   - an optional per-ray completion hook.
+ * Header-only (static functions) because cli/ builds one binary per .c. */
+#ifndef RTSIM_CLI_RTSIM_FRAME_H
+#define RTSIM_CLI_RTSIM_FRAME_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "model/accel_ray.h"
+#include "model/scheduler.h"
+#include "tracer/bounce.h"
+#include "tracer/bvh.h"
+#include "tracer/camera.h"
+#include "tracer/ray.h"
+#include "tracer/scene.h"
+
+typedef void (*rtsim_complete_hook)(void *user, uint32_t uid, const rt_ray *ray, const rt_hit *hit, uint64_t admit,
+                                    uint64_t done, bool failed);
+
+typedef struct rtsim_frame {
+    const rt_mesh *mesh;
+    rt_camera cam;
+    bool diffuse;
+    uint32_t max_bounces;
+    uint64_t seed;
+    float *pixel_cycles;          /* width*height, NULL when not kept */
+    rtsim_complete_hook hook;
+    void *hook_user;
+} rtsim_frame;
+
+static inline void rtsim_to_model(const rt_ray *r, accel_ray_in *o)
+{
+    o->org[0] = r->org.x, o->org[1] = r->org.y, o->org[2] = r->org.z;
+    o->dir[0] = r->dir.x, o->dir[1] = r->dir.y, o->dir[2] = r->dir.z;
+    o->tmin = r->tmin, o->tmax = r->tmax;
+    o->pixel = r->pixel;
+    o->bounce = r->bounce;
+}
+
+static inline void rtsim_from_model(const accel_ray_in *i, rt_ray *r)
+{
+    r->org = (rt_vec3){i->org[0], i->org[1], i->org[2]};
+    r->dir = (rt_vec3){i->dir[0], i->dir[1], i->dir[2]};
+    r->tmin = i->tmin, r->tmax = i->tmax;
+    r->pixel = i->pixel;
+    r->bounce = i->bounce;
+}
+
+static inline void rtsim_frame_primary(void *user, uint64_t i, accel_ray_in *out)
+{
+    rtsim_frame *f = user;
+    uint32_t px = (uint32_t)(i % f->cam.width), py = (uint32_t)(i / f->cam.width);
+    rt_ray r = rt_camera_primary_ray(&f->cam, px, py);
+    rtsim_to_model(&r, out);
+}
+
+static inline bool rtsim_frame_bounce(void *user, const accel_ray_in *in, const accel_hit *hit, accel_ray_in *out)
+{
+    rtsim_frame *f = user;
+    if (!f->diffuse)
+        return false;
+    rt_ray r, next;
+    rtsim_from_model(in, &r);
+    rt_hit h = {hit->t, hit->u, hit->v, hit->prim};
+    if (!rt_bounce_ray(f->mesh, &r, &h, f->seed, f->max_bounces, &next))
+        return false;
+    rtsim_to_model(&next, out);
+    return true;
+}
+
+static inline void rtsim_frame_complete(void *user, uint32_t uid, const accel_ray_in *in, const accel_hit *hit,
+                                        uint64_t admit, uint64_t done, uint32_t visits, uint32_t tri_tests,
+                                        bool failed)
+{
+    (void)visits, (void)tri_tests;
+    rtsim_frame *f = user;
+    if (f->pixel_cycles && in->pixel < f->cam.width * f->cam.height)
+        f->pixel_cycles[in->pixel] += (float)(done - admit);
+    if (f->hook) {
+        rt_ray r;
+        rtsim_from_model(in, &r);
+        rt_hit h = {hit->t, hit->u, hit->v, hit->prim};
+        f->hook(f->hook_user, uid, &r, &h, admit, done, failed);
+    }
+}
+
+/* The model's view of a tracer memory image. */
+static inline accel_image rtsim_image(const rt_bvh_image *img)
+{
+    accel_image a = {img->bytes, img->size, img->node_base, img->tri_base, img->width, img->node_bytes, img->nnodes,
+                     img->ntris};
+    return a;
+}
+
+/* Sets up the source; keep_pixels allocates the heatmap buffer. */
+static inline bool rtsim_frame_init(rtsim_frame *f, const rt_mesh *mesh, const rt_view *view, uint32_t width,
+                                    uint32_t height, bool diffuse, uint32_t max_bounces, uint64_t seed,
+                                    bool keep_pixels, accel_source *src, char *err, size_t errlen)
+{
+    memset(f, 0, sizeof *f);
+    if (!rt_camera_init(&f->cam, view, width, height, err, errlen))
+        return false;
+    f->mesh = mesh;
+    f->diffuse = diffuse;
+    f->max_bounces = max_bounces;
+    f->seed = seed;
+    if (keep_pixels) {
+        f->pixel_cycles = calloc((size_t)width * height, sizeof *f->pixel_cycles);
+        if (!f->pixel_cycles) {
+            snprintf(err, errlen, "out of memory for a %ux%u heatmap", width, height);
+            return false;
+        }
+    }
+    memset(src, 0, sizeof *src);
+    src->user = f;
+    src->primary_count = (uint64_t)width * height;
+    src->primary = rtsim_frame_primary;
+    src->bounce = rtsim_frame_bounce;
+    src->complete = rtsim_frame_complete;
+    return true;
+}
+
+static inline void rtsim_frame_free(rtsim_frame *f)
+{
+    free(f->pixel_cycles);
+    f->pixel_cycles = NULL;
+}
+
+#endif

@@ -1,0 +1,41 @@
+/* accel_config.h — the configuration keys of the ray side (TRV, IST,
+ * scheduler, ray-side FIFOs) as rtcfg schemas (model/config.h), and their
+ * conversion to the units' parameters. Needs no kernel.
+ *
+ * Sections: [trv] (count, slots, stack, pipeline stages, FLOPs), [ist],
+ * [sched], and the ray-side keys of [fifo] (ray_*). Defaults are the paper's
+ * (sec. 3, 3.1); the machine width comes from machine.branching. */
+#ifndef RTSIM_MODEL_ACCEL_CONFIG_H
+#define RTSIM_MODEL_ACCEL_CONFIG_H
+
+#include <stddef.h>
+
+#include "model/config.h"
+#include "model/ist.h"
+#include "model/scheduler.h"
+#include "model/trv.h"
+
+typedef struct accel_params {
+    int width;                 /* machine.branching */
+    double clock_mhz;          /* machine.clock_mhz */
+    uint32_t trv_count;
+    trv_params trv;
+    ist_params ist;
+    sched_params sched;
+    /* ray-side FIFO capacities and their latency (cycles) */
+    uint32_t fifo_new, fifo_leaf, fifo_return, fifo_done, fifo_trv_loop, fifo_ist_loop, fifo_latency;
+} accel_params;
+
+extern const rtcfg_schema accel_schema_trv, accel_schema_ist, accel_schema_sched, accel_schema_fifo;
+
+/* Registers the schemas above. */
+int accel_add_schemas(rtcfg *cfg, char *err, size_t errlen);
+/* Reads the parameters (after rtcfg_finish). */
+void accel_params_get(const rtcfg *cfg, accel_params *out);
+
+/* Ray-side FIFO keys, for auto-sizing: key i ("fifo.ray_new" ...) and the
+ * suffix of the FIFO names it sizes ("new" -> "trv0.new" ...). */
+unsigned accel_fifo_key_count(void);
+const char *accel_fifo_key(unsigned i);
+
+#endif

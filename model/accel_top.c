@@ -1,0 +1,448 @@
+/* accel_top.c — the top-level assembly (see accel_top.h). */
+#include "model/accel_top.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "kernel/clock.h"
+#include "kernel/fifo.h"
+#include "kernel/vcd.h"
+#include "model/ist.h"
+#include "model/memsys.h"
+#include "model/trv.h"
+
+#define SLICE_CYCLES 65536u
+
+struct accel_top {
+    accel_params p;
+    accel_image img;
+    accel_source src;
+    ks_sim *sim;
+    ks_clock *clk;
+    ks_stats *stats;
+    ks_vcd *vcd;
+    accel_ray *rays;
+    sched_unit sched;
+    trv_unit *trv;
+    ist_unit ist;
+    memsys *mem;
+    ks_fifo **f_new, **f_leaf, **f_ret, **f_done;
+    char (*names)[32];
+    uint64_t cycles, rays_done;
+    double mrps, seconds;
+    /* derived statistics */
+    uint64_t stat_cycles, stat_rays, stat_dram_bytes;
+    double stat_mrps, stat_dram_gbs, stat_in_flight;
+};
+
+static int make_fifo(accel_top *t, ks_fifo **out, const char *name, uint32_t cap, char *err, size_t errlen)
+{
+    *out = ks_fifo_create(t->sim, name, sizeof(trv_msg), cap, t->p.fifo_latency, t->clk);
+    if (!*out) {
+        snprintf(err, errlen, "FIFO %s: %s", name, ks_sim_error(t->sim));
+        return -1;
+    }
+    return 0;
+}
+
+/* The units' synchronous cache probe (model/cache.h protocol). */
+static cache_result probe_cache(void *ctx, uint64_t addr, uint32_t bytes, uint64_t now, uint32_t *cycles)
+{
+    cache *c = ctx;
+    cache_result r = cache_access(c, addr, bytes, (int64_t)now);
+    if (r == CACHE_HIT)
+        *cycles = cache_last_access_cycles(c);
+    return r;
+}
+
+static double util_formula(const ks_stats *reg, void *user)
+{
+    (void)reg;
+    const uint64_t *busy = user;
+    /* user points at a busy counter; the cycles live in a fixed place of the
+     * top struct, found through the registry */
+    double cyc = 0;
+    ks_stats_value(reg, "cycles", &cyc);
+    return cyc > 0 ? (double)*busy / cyc : 0.0;
+}
+
+static void register_util(ks_stats *st, const char *unit, const uint64_t *busy)
+{
+    char nm[96];
+    snprintf(nm, sizeof nm, "%s.utilization", unit);
+    ks_stat_formula(st, nm, "fraction", "busy cycles / frame cycles", util_formula, (void *)busy);
+}
+
+accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const accel_source *src,
+                            const accel_top_opts *opts, char *err, size_t errlen)
+{
+    accel_top_opts noopts = {0};
+    if (!opts)
+        opts = &noopts;
+    accel_top *t = calloc(1, sizeof *t);
+    if (!t) {
+        snprintf(err, errlen, "out of memory");
+        return NULL;
+    }
+    accel_params_get(cfg, &t->p);
+    t->img = *img;
+    t->src = *src;
+    if (img->width != t->p.width) {
+        snprintf(err, errlen, "machine.branching = %d but the BVH image is %d-wide (build the BVH with width %d)",
+                 t->p.width, img->width, t->p.width);
+        free(t);
+        return NULL;
+    }
+    uint32_t ntrv = t->p.trv_count, slots = t->p.trv.core.slots;
+    t->sim = ks_sim_create();
+    t->stats = ks_stats_create();
+    ks_time period = (ks_time)llround(1e6 / t->p.clock_mhz);
+    t->clk = ks_clock_create(t->sim, "clk", period);
+    ks_sim_set_deadlock_cycles(t->sim, opts->deadlock_cycles ? opts->deadlock_cycles : 100000);
+    if (opts->vcd_path) {
+        ks_time end = opts->vcd_end_cycle ? (ks_time)opts->vcd_end_cycle * period : KS_TIME_MAX;
+        t->vcd = ks_vcd_open(t->sim, opts->vcd_path, "1ns", (ks_time)opts->vcd_begin_cycle * period, end,
+                             opts->vcd_filter);
+        if (!t->vcd) {
+            snprintf(err, errlen, "--vcd %s: %s", opts->vcd_path, ks_sim_error(t->sim));
+            accel_top_destroy(t);
+            return NULL;
+        }
+    }
+    t->rays = calloc((size_t)ntrv * slots, sizeof *t->rays);
+    t->trv = calloc(ntrv, sizeof *t->trv);
+    t->f_new = calloc(ntrv, sizeof(ks_fifo *));
+    t->f_leaf = calloc(ntrv, sizeof(ks_fifo *));
+    t->f_ret = calloc(ntrv, sizeof(ks_fifo *));
+    t->f_done = calloc(ntrv, sizeof(ks_fifo *));
+    t->names = calloc(ntrv, sizeof *t->names);
+    if (!t->rays || !t->trv || !t->f_new || !t->f_leaf || !t->f_ret || !t->f_done || !t->names) {
+        snprintf(err, errlen, "out of memory for %u TRVs x %u slots", ntrv, slots);
+        accel_top_destroy(t);
+        return NULL;
+    }
+    /* the memory side first: the TRV fetch stages and the IST's front take
+     * the L1 and primitive cache hit latencies */
+    t->mem = memsys_build(t->sim, t->clk, cfg, (int)ntrv, t->stats, err, errlen);
+    if (!t->mem) {
+        accel_top_destroy(t);
+        return NULL;
+    }
+    t->p.trv.stages_fetch = memsys_node_l1_latency(t->mem);
+    t->p.ist.latency += memsys_prim_latency(t->mem);
+    /* units, in the order they are stepped each cycle: consumers of a FIFO
+     * see its items at the ready time whatever the order (latency >= 1) */
+    if (!sched_init(&t->sched, "sched", &t->p.sched, src, t->rays, ntrv, slots, t->clk, err, (unsigned)errlen)) {
+        accel_top_destroy(t);
+        return NULL;
+    }
+    for (uint32_t i = 0; i < ntrv; i++) {
+        snprintf(t->names[i], sizeof t->names[i], "trv%u", i);
+        if (!trv_init(&t->trv[i], i, t->names[i], &t->p.trv, &t->img, t->rays, t->sim, t->clk, t->p.fifo_trv_loop, err,
+                      (unsigned)errlen)) {
+            accel_top_destroy(t);
+            return NULL;
+        }
+    }
+    if (!ist_init(&t->ist, "ist", &t->p.ist, &t->img, t->rays, t->sim, t->clk, t->p.fifo_ist_loop, 0, err,
+                  (unsigned)errlen)) {
+        accel_top_destroy(t);
+        return NULL;
+    }
+    for (uint32_t i = 0; i < ntrv; i++) {
+        char nm[64];
+        snprintf(nm, sizeof nm, "trv%u.new", i);
+        if (make_fifo(t, &t->f_new[i], nm, t->p.fifo_new, err, errlen))
+            goto fail;
+        snprintf(nm, sizeof nm, "trv%u.leaf", i);
+        if (make_fifo(t, &t->f_leaf[i], nm, t->p.fifo_leaf, err, errlen))
+            goto fail;
+        snprintf(nm, sizeof nm, "trv%u.return", i);
+        if (make_fifo(t, &t->f_ret[i], nm, t->p.fifo_return, err, errlen))
+            goto fail;
+        snprintf(nm, sizeof nm, "trv%u.done", i);
+        if (make_fifo(t, &t->f_done[i], nm, t->p.fifo_done, err, errlen))
+            goto fail;
+        trv_bind(&t->trv[i], t->f_new[i], t->f_ret[i], t->f_leaf[i], t->f_done[i]);
+        if (opts->events)
+            trv_set_events(&t->trv[i], opts->events, opts->events_user);
+    }
+    sched_bind(&t->sched, t->f_new, t->f_done);
+    ist_bind(&t->ist, ntrv, t->f_leaf, t->f_ret);
+    if (opts->events)
+        ist_set_events(&t->ist, opts->events, opts->events_user);
+
+    for (uint32_t i = 0; i < ntrv; i++) {
+        trv_set_probe(&t->trv[i], probe_cache, memsys_node_l1(t->mem, (int)i));
+        ks_clocked_wake_on(t->trv[i].proc, memsys_node_l1_filled(t->mem, (int)i));
+    }
+    ist_set_probe(&t->ist, probe_cache, memsys_prim(t->mem));
+    ks_clocked_wake_on(t->ist.proc, memsys_prim_filled(t->mem));
+
+    /* statistics: the frame's figures first, then per unit */
+    ks_stat_counter_ref(t->stats, "cycles", "cycles", "accelerator cycles of the frame (to the last ray's completion)",
+                        &t->stat_cycles);
+    ks_stat_counter_ref(t->stats, "rays", "rays", "rays traced (primary and bounce)", &t->stat_rays);
+    ks_stat_real_ref(t->stats, "mrps", "Mrays/s", "million rays per second at the machine clock", &t->stat_mrps);
+    ks_stat_counter_ref(t->stats, "dram_bytes", "bytes", "bytes transferred from/to main memory", &t->stat_dram_bytes);
+    ks_stat_real_ref(t->stats, "dram_bandwidth_gbs", "GB/s", "mean main memory bandwidth over the frame",
+                     &t->stat_dram_gbs);
+    ks_stat_real_ref(t->stats, "rays_in_flight_mean", "rays", "time-averaged rays in flight", &t->stat_in_flight);
+    sched_register(&t->sched, "sched", t->stats, t->vcd);
+    for (uint32_t i = 0; i < ntrv; i++) {
+        trv_register(&t->trv[i], t->names[i], t->stats, t->vcd);
+        register_util(t->stats, t->names[i], &t->trv[i].busy_cycles);
+    }
+    ist_register(&t->ist, "ist", t->stats, t->vcd);
+    register_util(t->stats, "ist", &t->ist.busy_cycles);
+    return t;
+fail:
+    accel_top_destroy(t);
+    return NULL;
+}
+
+void accel_top_destroy(accel_top *t)
+{
+    if (!t)
+        return;
+    if (t->vcd)
+        ks_vcd_close(t->vcd);
+    if (t->trv)
+        for (uint32_t i = 0; i < t->p.trv_count; i++)
+            trv_free(&t->trv[i]);
+    if (t->mem)
+        memsys_destroy(t->mem);
+    sched_free(&t->sched);
+    ist_free(&t->ist);
+    if (t->sim)
+        ks_sim_destroy(t->sim);
+    if (t->stats)
+        ks_stats_destroy(t->stats);
+    free(t->rays);
+    free(t->trv);
+    free(t->f_new);
+    free(t->f_leaf);
+    free(t->f_ret);
+    free(t->f_done);
+    free(t->names);
+    free(t);
+}
+
+static void finish_stats(accel_top *t)
+{
+    t->rays_done = t->sched.completed;
+    t->cycles = t->rays_done ? t->sched.last_complete_cycle + 1 : 0;
+    t->seconds = (double)t->cycles / (t->p.clock_mhz * 1e6);
+    t->mrps = t->seconds > 0 ? (double)t->rays_done / t->seconds / 1e6 : 0.0;
+    t->stat_cycles = t->cycles;
+    t->stat_rays = t->rays_done;
+    t->stat_mrps = t->mrps;
+    t->stat_dram_bytes = t->mem ? memsys_memory_bytes(t->mem) : 0;
+    t->stat_dram_gbs = t->seconds > 0 ? (double)t->stat_dram_bytes / t->seconds / 1e9 : 0.0;
+    t->stat_in_flight = sched_mean_in_flight(&t->sched, t->cycles);
+}
+
+/* Appends one line per busy unit and its cache to err (watchdog report). */
+static void describe_units(accel_top *t, uint64_t now, char *err, size_t errlen, int n)
+{
+    char line[512];
+    for (uint32_t i = 0; i < t->p.trv_count && n >= 0 && (size_t)n < errlen; i++) {
+        if (!t->trv[i].rays_in_unit)
+            continue;
+        cache_describe(memsys_node_l1(t->mem, (int)i), (int64_t)now, line, sizeof line);
+        n += snprintf(err + n, errlen - (size_t)n, "\n  trv%u: %llu rays held; node L1: %s", i,
+                      (unsigned long long)t->trv[i].rays_in_unit, line);
+        for (uint32_t k = 0; k < t->p.trv.core.slots && (size_t)n < errlen; k++) {
+            const accel_ray *r = &t->rays[i * t->p.trv.core.slots + k];
+            bool held = false;
+            for (uint32_t j = 0; j < t->sched.nfree[i]; j++)
+                held |= t->sched.free_slots[(size_t)i * t->sched.slots + j] == k;
+            if (held)
+                continue;   /* a free slot */
+            n += snprintf(err + n, errlen - (size_t)n, "\n    ray %u (pixel %u bounce %u): phase %d target %u/%u, %u loops",
+                          r->uid, r->pixel, r->bounce, r->phase, r->target_ref, r->target_meta, r->loops);
+        }
+    }
+    if (t->ist.rays_in_unit && n >= 0 && (size_t)n < errlen) {
+        cache_describe(memsys_prim(t->mem), (int64_t)now, line, sizeof line);
+        n += snprintf(err + n, errlen - (size_t)n, "\n  ist: %llu rays held; primitive cache: %s",
+                      (unsigned long long)t->ist.rays_in_unit, line);
+    }
+    if (n >= 0 && (size_t)n < errlen) {
+        cache_describe(memsys_node_l2(t->mem), (int64_t)now, line, sizeof line);
+        snprintf(err + n, errlen - (size_t)n, "\n  node L2: %s", line);
+    }
+}
+
+int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *err, size_t errlen)
+{
+    ks_time period = ks_clock_period(t->clk);
+    uint64_t slice_end = 0;
+    int rc = 0;
+    for (;;) {
+        slice_end += SLICE_CYCLES;
+        ks_run_status st = ks_sim_run(t->sim, (ks_time)slice_end * period);
+        uint64_t now_cycle = (uint64_t)(ks_sim_now(t->sim) / period);
+        if (progress)
+            progress(user, now_cycle, t->sched.completed, t->sched.admitted);
+        if (st == KS_RUN_DEADLOCK) {
+            snprintf(err, errlen, "deadlock at cycle %llu:\n%s", (unsigned long long)now_cycle,
+                     ks_sim_deadlock_report(t->sim));
+            rc = 1;
+            break;
+        }
+        if (sched_finished(&t->sched) || st == KS_RUN_FINISHED) {
+            if (!sched_finished(&t->sched)) {
+                snprintf(err, errlen, "simulation ran dry at cycle %llu with %llu rays in flight:\n%s",
+                         (unsigned long long)now_cycle, (unsigned long long)t->sched.in_flight,
+                         ks_sim_deadlock_report(t->sim));
+                rc = 1;
+            }
+            break;
+        }
+        if (t->p.sched.watchdog_cycles && t->sched.in_flight &&
+            now_cycle > t->sched.last_complete_cycle + t->p.sched.watchdog_cycles) {
+            int n = snprintf(err, errlen,
+                             "no ray completed for %llu cycles (sched.watchdog_cycles) at cycle %llu with %llu rays in "
+                             "flight (livelock: rays keep looping):",
+                             (unsigned long long)t->p.sched.watchdog_cycles, (unsigned long long)now_cycle,
+                             (unsigned long long)t->sched.in_flight);
+            describe_units(t, now_cycle, err, errlen, n);
+            rc = 1;
+            break;
+        }
+    }
+    finish_stats(t);
+    if (rc == 0 && t->sched.any_failed) {
+        snprintf(err, errlen,
+                 "%llu rays overflowed their %u-entry traversal stack: the stack is too small for this scene "
+                 "(raise trv.stack_depth, allowed 1..4096)",
+                 (unsigned long long)t->sched.failed, t->p.trv.core.stack_depth);
+        rc = 1;
+    }
+    if (t->vcd) {
+        if (ks_vcd_close(t->vcd) && rc == 0) {
+            snprintf(err, errlen, "VCD: %s", ks_sim_error(t->sim));
+            rc = 1;
+        }
+        t->vcd = NULL;
+    }
+    return rc;
+}
+
+uint64_t accel_top_cycles(const accel_top *t) { return t->cycles; }
+uint64_t accel_top_rays(const accel_top *t) { return t->rays_done; }
+double accel_top_mrps(const accel_top *t) { return t->mrps; }
+ks_stats *accel_top_stats(accel_top *t) { return t->stats; }
+const accel_params *accel_top_params(const accel_top *t) { return &t->p; }
+
+void accel_top_print_summary(accel_top *t, FILE *out)
+{
+    fprintf(out, "machine     %d-wide, %u TRV x %u slots, 1 IST, %.0f MHz\n", t->p.width, t->p.trv_count,
+            t->p.trv.core.slots, t->p.clock_mhz);
+    fprintf(out, "cycles      %llu\n", (unsigned long long)t->cycles);
+    fprintf(out, "rays        %llu (%llu primary, %llu bounce)\n", (unsigned long long)t->rays_done,
+            (unsigned long long)t->sched.primaries, (unsigned long long)t->sched.bounces);
+    fprintf(out, "MRPS        %.2f at %.0f MHz\n", t->mrps, t->p.clock_mhz);
+    fprintf(out, "in flight   %.1f rays mean, %llu max; latency %.0f cycles mean\n", t->stat_in_flight,
+            (unsigned long long)t->sched.max_in_flight,
+            t->sched.completed ? (double)t->sched.latency_sum / (double)t->sched.completed : 0.0);
+    fprintf(out, "utilization");
+    for (uint32_t i = 0; i < t->p.trv_count; i++)
+        fprintf(out, " trv%u %.1f%%", i, t->cycles ? 100.0 * (double)t->trv[i].busy_cycles / (double)t->cycles : 0.0);
+    fprintf(out, " ist %.1f%%\n", t->cycles ? 100.0 * (double)t->ist.busy_cycles / (double)t->cycles : 0.0);
+    cache_stats cs, sum = {0};
+    for (uint32_t i = 0; i < t->p.trv_count; i++) {
+        cache_get_stats(memsys_node_l1(t->mem, (int)i), &cs);
+        sum.accesses += cs.accesses, sum.hits += cs.hits;
+    }
+    fprintf(out, "caches      node L1 %.2f%% hits (%llu accesses)", sum.accesses ? 100.0 * (double)sum.hits / (double)sum.accesses : 0.0,
+            (unsigned long long)sum.accesses);
+    cache_get_stats(memsys_node_l2(t->mem), &cs);
+    fprintf(out, ", node L2 %.2f%% (%llu)", cs.accesses ? 100.0 * (double)cs.hits / (double)cs.accesses : 0.0,
+            (unsigned long long)cs.accesses);
+    cache_get_stats(memsys_prim(t->mem), &cs);
+    fprintf(out, ", prim %.2f%% (%llu)\n", cs.accesses ? 100.0 * (double)cs.hits / (double)cs.accesses : 0.0,
+            (unsigned long long)cs.accesses);
+    fprintf(out, "DRAM        %.2f MB, %.2f GB/s (%s memory)\n", (double)t->stat_dram_bytes / 1e6, t->stat_dram_gbs,
+            memsys_memory_model(t->mem) == MEMSYS_LPDDR3 ? "LPDDR3" : "fixed-latency");
+}
+
+/* First power of two strictly above the ring's maximum occupancy. */
+static uint32_t ring_suggest(const pipe_ring *r)
+{
+    uint32_t s = 1;
+    while (s <= r->max_count)
+        s *= 2;
+    return s;
+}
+
+int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen)
+{
+    static const char *const suffix[] = {".new", ".leaf", ".return", ".done", ".loop", ".loop"};
+    for (unsigned k = 0; k < accel_fifo_key_count(); k++) {
+        uint32_t want = 1;
+        bool any = false;
+        for (uint32_t i = 0; i < ks_sim_fifo_count(t->sim); i++) {
+            ks_fifo *f = ks_sim_fifo_at(t->sim, i);
+            const char *nm = ks_fifo_name(f);
+            size_t ln = strlen(nm), ls = strlen(suffix[k]);
+            if (ln < ls || strcmp(nm + ln - ls, suffix[k]))
+                continue;
+            bool is_ist = strncmp(nm, "ist", 3) == 0;
+            if ((k == 4 && is_ist) || (k == 5 && !is_ist))
+                continue;
+            any = true;
+            uint32_t s = ks_fifo_suggested_capacity(f);
+            if (s > want)
+                want = s;
+        }
+        /* the loop FIFOs are unit-internal rings */
+        if (k == 4)
+            for (uint32_t i = 0; i < t->p.trv_count; i++, any = true)
+                want = ring_suggest(&t->trv[i].loop) > want ? ring_suggest(&t->trv[i].loop) : want;
+        if (k == 5) {
+            any = true;
+            want = ring_suggest(&t->ist.loop) > want ? ring_suggest(&t->ist.loop) : want;
+        }
+        if (any && rtcfg_set_int(cfg, accel_fifo_key(k), want, err, errlen))
+            return -1;
+    }
+    /* memory side: the largest suggestion among the FIFOs of each key */
+    int n = memsys_fifo_count(t->mem);
+    for (int i = 0; i < n; i++) {
+        const char *key = NULL;
+        ks_fifo *f = memsys_fifo_at(t->mem, i, &key);
+        if (!key)
+            continue;
+        uint32_t want = ks_fifo_suggested_capacity(f);
+        for (int j = 0; j < n; j++) {
+            const char *kj = NULL;
+            ks_fifo *g = memsys_fifo_at(t->mem, j, &kj);
+            if (kj && !strcmp(kj, key) && ks_fifo_suggested_capacity(g) > want)
+                want = ks_fifo_suggested_capacity(g);
+        }
+        if (rtcfg_set_int(cfg, key, want, err, errlen))
+            return -1;
+    }
+    return 0;
+}
+
+static const ks_module_desc *const all_descs[] = {&trv_module_desc, &ist_module_desc, &sched_module_desc};
+
+const ks_module_desc *accel_module_desc(const char *name)
+{
+    for (size_t i = 0; i < sizeof all_descs / sizeof all_descs[0]; i++)
+        if (!strcmp(all_descs[i]->name, name))
+            return all_descs[i];
+    return memsys_module_desc(name);   /* caches, arbiters, memories */
+}
+
+void accel_module_list(FILE *out)
+{
+    for (size_t i = 0; i < sizeof all_descs / sizeof all_descs[0]; i++)
+        fprintf(out, "%s, ", all_descs[i]->name);
+    memsys_module_list(out);
+}

@@ -1,0 +1,71 @@
+/* accel_top.h — the one top-level assembly of the accelerator (paper Fig. 2):
+ * creates the kernel simulation, the 500 MHz clock, the scheduler, trv.count
+ * TRV units, the IST, the memory hierarchy (node L1 per TRV, shared node L2,
+ * primitive cache, memory) and every FIFO between them; turns on the
+ * deadlock detector; registers every statistic (with unit and description)
+ * and, when asked, a VCD of all units (scopes per unit: FIFO occupancies,
+ * unit states, ray ids at the issue/exit stages) with a time window and a
+ * signal filter.
+ *
+ * Contract: accel_top_create() validates the configuration against the
+ * image (width) and returns NULL with a message naming the key on error.
+ * accel_top_run() runs the frame to completion: 0 when every ray completed,
+ * 1 on a simulation failure (deadlock: the report names who waits on whom;
+ * a ray whose stack overflowed: "stack too small", naming trv.stack_depth).
+ * Results are deterministic (same inputs -> same cycles and statistics). */
+#ifndef RTSIM_MODEL_ACCEL_TOP_H
+#define RTSIM_MODEL_ACCEL_TOP_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include <stdio.h>
+
+#include "kernel/module_desc.h"
+#include "kernel/sim.h"
+#include "kernel/stats.h"
+#include "model/accel_config.h"
+#include "model/accel_ray.h"
+#include "model/config.h"
+#include "model/scheduler.h"
+
+typedef struct accel_top accel_top;
+
+typedef struct accel_top_opts {
+    const char *vcd_path;          /* NULL: no VCD */
+    uint64_t vcd_begin_cycle, vcd_end_cycle;   /* window [begin, end); end 0 = to the end */
+    const char *vcd_filter;        /* comma-separated globs, NULL = all */
+    accel_event_fn events;         /* per-ray event log (NULL: none) */
+    void *events_user;
+    uint64_t deadlock_cycles;      /* kernel detector window; 0 = default (100000) */
+} accel_top_opts;
+
+/* Called between run slices (every ~64K cycles) for progress bars. */
+typedef void (*accel_progress_fn)(void *user, uint64_t cycle, uint64_t rays_done, uint64_t rays_admitted);
+
+accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const accel_source *src,
+                            const accel_top_opts *opts, char *err, size_t errlen);
+int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *err, size_t errlen);
+void accel_top_destroy(accel_top *t);
+
+/* After a run. */
+uint64_t accel_top_cycles(const accel_top *t);     /* cycles of the frame (to the last completion) */
+uint64_t accel_top_rays(const accel_top *t);       /* rays completed */
+double accel_top_mrps(const accel_top *t);         /* rays / simulated second / 1e6 at the machine clock */
+ks_stats *accel_top_stats(accel_top *t);           /* every statistic */
+const accel_params *accel_top_params(const accel_top *t);
+/* Writes the human-readable summary: cycles, MRPS, per-unit utilization,
+ * cache hit rates, DRAM traffic and bandwidth, rays in flight. */
+void accel_top_print_summary(accel_top *t, FILE *out);
+
+/* FIFO auto-sizing (paper sec. 3): sets every FIFO key of cfg to the first
+ * power of two above the largest occupancy seen by the FIFOs it sizes.
+ * Returns 0, or -1 with a message. */
+int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen);
+
+/* Module description tables of every unit (for --help-module NAME). */
+const ks_module_desc *accel_module_desc(const char *name);
+void accel_module_list(FILE *out);
+
+#endif

@@ -1,0 +1,295 @@
+/* trv.c — TRV unit timing (see trv.h); the pass logic is trv_core.c. */
+#include "model/trv.h"
+
+#include <stdio.h>
+#include <string.h>
+
+static const ks_desc_item trv_items[] = {
+    {KS_DESC_PARAM, "trv.count", "int", "4", "1..64", "TRV units per IST (paper sec. 3)"},
+    {KS_DESC_PARAM, "trv.slots", "int", "32", "1..1024", "ray slots (stacks) per TRV (paper sec. 3)"},
+    {KS_DESC_PARAM, "trv.stack_depth", "int", "64", "1..4096", "entries per ray stack (paper sec. 3)"},
+    {KS_DESC_PARAM, "trv.stack_banks", "int", "0", "0..64", "stack memory banks; 0 = N-1 (conflict-free pushes, sec. 3.1)"},
+    {KS_DESC_PARAM, "trv.distance_stack", "enum auto|on|off", "auto", "", "distance stack culling; auto = on for N > 2 (sec. 3.1)"},
+    {KS_DESC_PARAM, "trv.stages_box", "int", "3", "1..32", "pipeline stages of the slab test"},
+    {KS_DESC_PARAM, "trv.stages_stack", "int", "1", "1..8", "pipeline stages of the stack access"},
+    {KS_DESC_PARAM, "trv.stages_next", "int", "1", "1..8", "pipeline stages of the next-state logic"},
+    {KS_DESC_PARAM, "trv.box_flops", "int", "12", "1..64", "FLOPs per slab test lane (6 sub + 6 mul, bvh_layout.h)"},
+    {KS_DESC_PORT, "in_new", "in fifo<trv_msg>", "", "", "new rays from the scheduler"},
+    {KS_DESC_PORT, "in_ist", "in fifo<trv_msg>", "", "", "rays back from the IST after a leaf"},
+    {KS_DESC_PORT, "out_ist", "out fifo<trv_msg>", "", "", "rays with a leaf to test"},
+    {KS_DESC_PORT, "out_done", "out fifo<trv_msg>", "", "", "finished rays to the scheduler"},
+    {KS_DESC_PORT, "node_l1", "cache probe", "", "", "node L1 (cache_access; miss -> looping for next chance)"},
+    {KS_DESC_PORT, "pipe", "internal fifo<trv_msg>", "", "", "the pipeline stages after issue (latency depth-1)"},
+    {KS_DESC_PORT, "loop", "internal fifo<trv_msg>", "", "", "rays going round again"},
+    {KS_DESC_STAT, "busy_cycles", "cycles", "", "", "cycles a ray was issued"},
+    {KS_DESC_STAT, "visits", "nodes", "", "", "node visits (committed)"},
+    {KS_DESC_STAT, "loops_miss", "passes", "", "", "passes invalidated by a node L1 miss"},
+    {KS_DESC_STAT, "loops_blocked", "passes", "", "", "passes invalidated because the L1 was blocked"},
+    {KS_DESC_STAT, "box_tests", "tests", "", "", "slab tests of used child slots"},
+    {KS_DESC_STAT, "sort_swaps", "swaps", "", "", "compare-exchanges that swapped"},
+    {KS_DESC_STAT, "stack_pushes", "entries", "", "", "stack entries written"},
+    {KS_DESC_STAT, "stack_pops", "entries", "", "", "stack entries read (pops and culls)"},
+    {KS_DESC_STAT, "stack_conflict_cycles", "cycles", "", "", "issue stalls from stack bank conflicts"},
+    {KS_DESC_STAT, "culls", "entries", "", "", "stack entries discarded by the distance stack"},
+    {KS_DESC_STAT, "exit_stall_cycles", "cycles", "", "", "cycles the exit stage waited for a full output FIFO"},
+    {KS_DESC_STAT, "flops", "FLOP", "", "", "slab test FLOPs (all N lanes per visit)"},
+    {KS_DESC_END, 0, 0, 0, 0, 0}};
+
+const ks_module_desc trv_module_desc = {"trv", "BVH/MBVH traversal unit: node fetch, slab tests, sort, banked stack",
+                                        trv_items};
+
+static const char *const trv_state_names[] = {"idle", "issue", "stall", "wait_out"};
+enum { TRV_ST_IDLE, TRV_ST_ISSUE, TRV_ST_STALL, TRV_ST_WAIT_OUT };
+
+uint32_t trv_pipeline_depth(const trv_params *p)
+{
+    const sort_net *net = sort_net_get(p->core.width);
+    uint32_t sort = net ? (uint32_t)net->layers : 0;
+    return p->stages_fetch + p->stages_box + sort + p->stages_stack + p->stages_next;
+}
+
+static int trv_step(void *user, uint64_t cycle);
+
+static int trv_busy(void *user)
+{
+    trv_unit *t = user;
+    return t->rays_in_unit > 0;
+}
+
+static void trv_describe(void *user, char *buf, unsigned cap)
+{
+    trv_unit *t = user;
+    snprintf(buf, cap,
+             "%u rays held; pipe %u/%u, loop %u/%u; in_new %u, in_ist %u waiting; out_ist %u/%u, out_done %u/%u%s",
+             (unsigned)t->rays_in_unit, t->pipe.count, t->pipe.cap,
+             t->loop.count, t->loop.cap, t->in_new ? ks_fifo_occupancy(t->in_new) : 0,
+             t->in_ist ? ks_fifo_occupancy(t->in_ist) : 0, t->out_ist ? ks_fifo_occupancy(t->out_ist) : 0,
+             t->out_ist ? ks_fifo_capacity(t->out_ist) : 0, t->out_done ? ks_fifo_occupancy(t->out_done) : 0,
+             t->out_done ? ks_fifo_capacity(t->out_done) : 0,
+             pipe_ring_ready(&t->pipe, ks_clock_cycle(t->clk)) ? " (exit stage waits for a full output FIFO)" : "");
+}
+
+bool trv_init(trv_unit *t, uint32_t id, const char *name, const trv_params *p, const accel_image *img,
+              accel_ray *rays, ks_sim *sim, ks_clock *clk, uint32_t loop_capacity, char *err, unsigned errlen)
+{
+    memset(t, 0, sizeof *t);
+    if (!trv_core_init(&t->core, &p->core, img, NULL, NULL, err, errlen))
+        return false;
+    t->p = *p;
+    t->id = id;
+    t->rays = rays;
+    t->clk = clk;
+    t->depth = trv_pipeline_depth(p);
+    /* one ray per stage after issue: capacity depth, exit depth-1 cycles later */
+    if (!pipe_ring_init(&t->pipe, t->depth, t->depth - 1)) {
+        snprintf(err, errlen, "%s: out of memory", name);
+        trv_core_free(&t->core);
+        return false;
+    }
+    /* the loop back to the issue stage: a bounded FIFO (fifo.ray_trv_loop), one cycle */
+    if (!pipe_ring_init(&t->loop, loop_capacity ? loop_capacity : p->core.slots, 1)) {
+        snprintf(err, errlen, "%s: out of memory", name);
+        pipe_ring_free(&t->pipe);
+        trv_core_free(&t->core);
+        return false;
+    }
+    (void)sim;
+    t->proc = ks_clocked_create(clk, name, trv_step, t);
+    ks_clocked_set_describe(t->proc, trv_busy, trv_describe);
+    return true;
+}
+
+void trv_bind(trv_unit *t, ks_fifo *in_new, ks_fifo *in_ist, ks_fifo *out_ist, ks_fifo *out_done)
+{
+    t->in_new = in_new, t->in_ist = in_ist, t->out_ist = out_ist, t->out_done = out_done;
+    ks_clocked_wake_on(t->proc, ks_fifo_ev_written(in_new));
+    ks_clocked_wake_on(t->proc, ks_fifo_ev_written(in_ist));
+    ks_clocked_wake_on(t->proc, ks_fifo_ev_freed(out_ist));
+    ks_clocked_wake_on(t->proc, ks_fifo_ev_freed(out_done));
+}
+
+void trv_set_probe(trv_unit *t, accel_probe_fn probe, void *ctx)
+{
+    t->core.probe = probe;
+    t->core.probe_ctx = ctx;
+}
+
+void trv_set_events(trv_unit *t, accel_event_fn fn, void *user)
+{
+    t->core.ev = fn;
+    t->core.ev_user = user;
+}
+
+static void reg(ks_stats *st, const char *name, const char *stat, const char *unit, const char *desc,
+                const uint64_t *v)
+{
+    char full[160];
+    snprintf(full, sizeof full, "%s.%s", name, stat);
+    ks_stat_counter_ref(st, full, unit, desc, v);
+}
+
+void trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd)
+{
+    if (st) {
+        trv_core_stats *c = &t->core.st;
+        trv_stack_stats *s = &t->core.stack.st;
+        reg(st, name, "busy_cycles", "cycles", "cycles a ray was issued into the pipeline", &t->busy_cycles);
+        reg(st, name, "passes", "passes", "ray passes through the pipeline", &c->passes);
+        reg(st, name, "visits", "nodes", "node visits (committed)", &c->visits);
+        reg(st, name, "pop_passes", "passes", "passes that popped the stack", &c->pop_passes);
+        reg(st, name, "loops_miss", "passes", "passes invalidated by a node L1 miss (looping for next chance)",
+            &c->loops_miss);
+        reg(st, name, "loops_blocked", "passes", "passes invalidated because the node L1 was blocked",
+            &c->loops_blocked);
+        reg(st, name, "box_tests", "tests", "slab tests of used child slots", &c->box_tests);
+        reg(st, name, "box_lanes", "tests", "slab test lanes active (N per visit)", &c->box_lanes);
+        reg(st, name, "sort_passes", "passes", "passes through the sorting network", &c->sort_passes);
+        reg(st, name, "sort_swaps", "swaps", "compare-exchanges that swapped", &c->sort_swaps);
+        reg(st, name, "stack_pushes", "entries", "stack entries written", &s->pushes);
+        reg(st, name, "stack_pops", "entries", "stack entries read (pops and culls)", &s->pops);
+        reg(st, name, "stack_ops", "operations", "stack operations (one per pass that touches the stack)", &s->ops);
+        reg(st, name, "stack_conflict_cycles", "cycles", "issue stalls from stack bank conflicts", &s->conflict_cycles);
+        reg(st, name, "culls", "entries", "stack entries discarded by the distance stack", &c->culls);
+        reg(st, name, "to_ist", "rays", "rays sent to the IST with a leaf", &c->to_ist);
+        reg(st, name, "done", "rays", "rays finished", &c->done);
+        reg(st, name, "stack_overflows", "rays", "rays whose stack overflowed", &c->overflows);
+        reg(st, name, "issue_new", "rays", "issues of new rays", &t->issue_new);
+        reg(st, name, "issue_ist", "rays", "issues of rays back from the IST", &t->issue_ist);
+        reg(st, name, "issue_loop", "rays", "issues of looping/continuing rays", &t->issue_loop);
+        reg(st, name, "exit_stall_cycles", "cycles", "cycles the exit stage waited for a full output FIFO",
+            &t->exit_stall_cycles);
+        reg(st, name, "stack_stall_cycles", "cycles", "cycles issue waited for a multi-cycle stack operation",
+            &t->stack_stall_cycles);
+        reg(st, name, "flops", "FLOP", "slab test FLOPs (all N lanes per visit)", &t->flops);
+    }
+    if (vcd) {
+        char nm[160];
+        snprintf(nm, sizeof nm, "%s.state", name);
+        t->v_state = ks_vcd_var_enum(vcd, nm, trv_state_names, 4, TRV_ST_IDLE);
+        snprintf(nm, sizeof nm, "%s.issue_ray", name);
+        t->v_issue_ray = ks_vcd_var_int(vcd, nm, 32, 0xFFFFFFFFu);
+        snprintf(nm, sizeof nm, "%s.exit_ray", name);
+        t->v_exit_ray = ks_vcd_var_int(vcd, nm, 32, 0xFFFFFFFFu);
+        snprintf(nm, sizeof nm, "%s.rays_held", name);
+        t->v_rays = ks_vcd_var_int(vcd, nm, 16, 0);
+        snprintf(nm, sizeof nm, "%s.pipe.occupancy", name);
+        t->pipe.v_occ = ks_vcd_var_int(vcd, nm, 16, 0);
+        snprintf(nm, sizeof nm, "%s.loop.occupancy", name);
+        t->loop.v_occ = ks_vcd_var_int(vcd, nm, 16, 0);
+    }
+}
+
+void trv_free(trv_unit *t)
+{
+    trv_core_free(&t->core);
+    pipe_ring_free(&t->pipe);
+    pipe_ring_free(&t->loop);
+}
+
+/* Earliest future cycle at which a FIFO head becomes readable (UINT64_MAX if none). */
+static inline uint64_t head_cycle(const ks_fifo *f, ks_clock *clk)
+{
+    if (!f || !ks_fifo_occupancy(f))
+        return UINT64_MAX;
+    return ks_clock_cycle_at_or_after(clk, ks_fifo_head_ready_time(f));
+}
+
+static int trv_step(void *user, uint64_t cycle)
+{
+    trv_unit *t = user;
+    int progress = 0;
+    int state = TRV_ST_IDLE;
+
+    /* exit stage: one ray per cycle leaves the pipeline */
+    const pipe_item *head = pipe_ring_ready(&t->pipe, cycle);
+    if (head) {
+        ks_fifo *out = NULL;
+        switch (head->result) {
+        case TRV_TO_IST: out = t->out_ist; break;
+        case TRV_DONE:
+        case TRV_OVERFLOW: out = t->out_done; break;
+        default: break;   /* next node or next chance: the loop */
+        }
+        if (out ? ks_fifo_can_write(out) : !pipe_ring_full(&t->loop)) {
+            pipe_item it = pipe_ring_pop(&t->pipe);
+            trv_msg m = {it.ray, 0};
+            if (out) {
+                t->rays_in_unit--;
+                ks_fifo_write(out, &m);
+            } else {
+                pipe_ring_push(&t->loop, it.ray, 0, cycle);
+            }
+            if (t->v_exit_ray)
+                ks_vcd_set(t->v_exit_ray, m.ray);
+            progress++;
+        } else {
+            t->exit_stall_cycles++;
+            state = TRV_ST_WAIT_OUT;
+        }
+    } else if (t->v_exit_ray) {
+        ks_vcd_set(t->v_exit_ray, 0xFFFFFFFFu);
+    }
+
+    /* issue stage */
+    if (cycle < t->busy_until) {
+        state = TRV_ST_STALL;
+        t->stack_stall_cycles++;
+        progress++;   /* the stack stage is working (the exit stage keeps draining) */
+    } else if (!pipe_ring_full(&t->pipe)) {
+        trv_msg m;
+        bool got = true;
+        if (ks_fifo_can_read(t->in_ist) && ks_fifo_read(t->in_ist, &m)) {
+            t->issue_ist++;
+            t->rays_in_unit++;
+        } else if (pipe_ring_ready(&t->loop, cycle)) {
+            m.ray = pipe_ring_pop(&t->loop).ray;
+            t->issue_loop++;
+        } else if (ks_fifo_can_read(t->in_new) && ks_fifo_read(t->in_new, &m)) {
+            t->issue_new++;
+            t->rays_in_unit++;
+        } else {
+            got = false;
+        }
+        if (got) {
+            accel_ray *r = &t->rays[m.ray];
+            uint32_t stack_cycles = 0;
+            uint64_t visits0 = t->core.st.visits;
+            m.result = (uint32_t)trv_core_pass(&t->core, r, cycle, &stack_cycles);
+            if (t->core.st.visits != visits0)
+                t->flops += (uint64_t)t->p.box_flops * (uint64_t)t->p.core.width;
+            if (m.result == TRV_OVERFLOW)
+                t->failed = true;
+            pipe_ring_push(&t->pipe, m.ray, m.result, cycle);
+            t->busy_cycles++;
+            if (m.result != TRV_LOOP_MISS && m.result != TRV_LOOP_BLOCKED && t->core.fetch_cycles > stack_cycles)
+                stack_cycles = t->core.fetch_cycles;   /* a node spanning two lines of one L1 bank */
+            if (stack_cycles > 1)
+                t->busy_until = cycle + stack_cycles;
+            if (t->v_issue_ray)
+                ks_vcd_set(t->v_issue_ray, m.ray);
+            state = TRV_ST_ISSUE;
+            progress++;
+        } else if (t->v_issue_ray) {
+            ks_vcd_set(t->v_issue_ray, 0xFFFFFFFFu);
+        }
+    }
+    if (t->v_state) {
+        ks_vcd_set(t->v_state, (uint64_t)state);
+        ks_vcd_set(t->v_rays, t->rays_in_unit);
+    }
+    if (!progress) {
+        /* sleep until the next input or pipe head becomes readable (events
+         * cover new writes and freed outputs) */
+        uint64_t next = pipe_ring_next_exit(&t->pipe);
+        uint64_t c;
+        if ((c = pipe_ring_next_exit(&t->loop)) < next)
+            next = c;
+        if ((c = head_cycle(t->in_ist, t->clk)) < next)
+            next = c;
+        if ((c = head_cycle(t->in_new, t->clk)) < next)
+            next = c;
+        if (next != UINT64_MAX && next > cycle)
+            ks_clocked_sleep_until_cycle(t->proc, next);
+    }
+    return progress;
+}

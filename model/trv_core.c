@@ -1,0 +1,165 @@
+/* trv_core.c — one TRV pass (see trv_core.h). */
+#include "model/trv_core.h"
+
+#include <stdio.h>
+#include <string.h>
+
+bool trv_core_init(trv_core *c, const trv_core_params *p, const accel_image *img, accel_probe_fn probe,
+                   void *probe_ctx, char *err, unsigned errlen)
+{
+    *c = (trv_core){0};
+    if (p->width < RT_WIDTH_MIN || p->width > RT_WIDTH_MAX) {
+        snprintf(err, errlen, "trv: width %d out of range (allowed %d..%d)", p->width, RT_WIDTH_MIN, RT_WIDTH_MAX);
+        return false;
+    }
+    if (img && img->width != p->width) {
+        snprintf(err, errlen, "trv: machine width %d does not match the BVH image's width %d", p->width, img->width);
+        return false;
+    }
+    if (!trv_stack_init(&c->stack, p->slots, p->stack_depth, p->stack_banks, err, errlen))
+        return false;
+    c->p = *p;
+    c->img = img;
+    c->net = sort_net_get(p->width);
+    c->probe = probe;
+    c->probe_ctx = probe_ctx;
+    return true;
+}
+
+void trv_core_free(trv_core *c) { trv_stack_free(&c->stack); }
+
+static inline void emit(trv_core *c, const accel_ray *r, int kind, uint32_t a, uint32_t b, float t)
+{
+    if (c->ev)
+        c->ev(c->ev_user, r->uid, kind, a, b, t);
+}
+
+/* The entry becomes the ray's target; returns the pass result for it. */
+static trv_pass_result take_target(trv_core *c, accel_ray *r, uint32_t ref, uint32_t meta)
+{
+    r->target_ref = ref;
+    r->target_meta = meta;
+    uint32_t count = meta & RT_META_COUNT_MASK;
+    /* host-side prefetch of the bytes the ray's next pass reads (a pipeline
+     * depth later): simulation speed only, no effect on the model */
+    const accel_image *img = c->img;
+    const uint8_t *next = count ? img->bytes + img->tri_base + (uint64_t)ref * RT_TRI_BYTES
+                                : img->bytes + img->node_base + (uint64_t)ref * img->node_bytes;
+    __builtin_prefetch(next);
+    __builtin_prefetch(next + 64);
+    if (count) {
+        r->phase = RAY_LEAF;
+        r->tri_next = ref;
+        r->tri_end = ref + count;
+        emit(c, r, ACCEL_EV_LEAF, ref, count, 0.0f);
+        c->st.to_ist++;
+        return TRV_TO_IST;
+    }
+    r->phase = RAY_VISIT;
+    return TRV_CONTINUE;
+}
+
+static trv_pass_result pop_next(trv_core *c, accel_ray *r, uint32_t *stack_cycles)
+{
+    uint32_t reads = 0;
+    trv_stack_entry e;
+    trv_pass_result res = TRV_DONE;
+    c->st.pop_passes++;
+    while (trv_stack_peek(&c->stack, r->slot, reads, &e)) {
+        reads++;
+        if (c->p.distance_cull && e.tnear > r->closest) {
+            emit(c, r, ACCEL_EV_CULL, e.ref, e.meta, e.tnear);
+            c->st.culls++;
+            continue;
+        }
+        emit(c, r, ACCEL_EV_POP, e.ref, e.meta, e.tnear);
+        int cyc = trv_stack_pop(&c->stack, r->slot, reads);
+        *stack_cycles = (uint32_t)cyc;
+        return take_target(c, r, e.ref, e.meta);
+    }
+    *stack_cycles = (uint32_t)trv_stack_pop(&c->stack, r->slot, reads);
+    r->phase = RAY_DONE;
+    emit(c, r, ACCEL_EV_DONE, r->prim, 0, r->closest);
+    c->st.done++;
+    return res;
+}
+
+trv_pass_result trv_core_pass(trv_core *c, accel_ray *r, uint64_t now, uint32_t *stack_cycles)
+{
+    *stack_cycles = 0;
+    c->st.passes++;
+    if (r->phase == RAY_POP)
+        return pop_next(c, r, stack_cycles);
+
+    /* RAY_VISIT: fetch the node through the node L1 */
+    const accel_image *img = c->img;
+    uint64_t addr = img->node_base + (uint64_t)r->target_ref * img->node_bytes;
+    c->fetch_cycles = 1;
+    cache_result cr = c->probe ? c->probe(c->probe_ctx, addr, img->node_bytes, now, &c->fetch_cycles) : CACHE_HIT;
+    if (cr != CACHE_HIT) {
+        r->loops++;
+        if (cr == CACHE_MISS) {
+            c->st.loops_miss++;
+            return TRV_LOOP_MISS;
+        }
+        c->st.loops_blocked++;
+        return TRV_LOOP_BLOCKED;
+    }
+    c->st.visits++;
+    r->visits++;
+    emit(c, r, ACCEL_EV_VISIT, r->target_ref, 0, 0.0f);
+
+    const uint8_t *node = img->bytes + addr;
+    const int n = c->p.width;
+    uint64_t keys[SORT_NET_MAX_LANES];
+    float tnear[SORT_NET_MAX_LANES];
+    int hits = 0;
+    for (int i = 0; i < n; i++) {
+        const uint8_t *slot = node + (size_t)i * RT_SLOT_BYTES;
+        uint32_t meta;
+        memcpy(&meta, slot + 28, sizeof meta);
+        float lohi[6];
+        memcpy(lohi, slot, sizeof lohi);
+        float tn = 0.0f;
+        bool hit = false;
+        if (!(meta & RT_META_EMPTY)) {
+            c->st.box_tests++;
+            hit = rt_slab_test(&r->prep, lohi, lohi + 3, r->tmin, r->closest, &tn);
+        }
+        tnear[i] = tn;
+        keys[i] = sort_key_pack(tn, (unsigned)i, hit);
+        hits += hit;
+    }
+    c->st.box_lanes += (uint64_t)n;
+    c->st.sort_passes++;
+    c->st.sort_swaps += (uint64_t)sort_net_apply_packed(c->net, keys);
+    if (hits == 0)
+        return pop_next(c, r, stack_cycles);
+
+    /* push all but the nearest, farthest first: the second nearest ends on top */
+    trv_stack_entry push[SORT_NET_MAX_LANES];
+    uint32_t k = 0;
+    for (int i = hits - 1; i >= 1; i--) {
+        unsigned sl = sort_key_slot(keys[i]);
+        rt_child chi;
+        rt_node_child(node, (int)sl, &chi);
+        push[k].ref = chi.ref;
+        push[k].meta = chi.meta & RT_META_COUNT_MASK;
+        push[k].tnear = tnear[sl];
+        k++;
+    }
+    if (k) {
+        int cyc = trv_stack_push(&c->stack, r->slot, push, k);
+        if (cyc < 0) {
+            r->phase = RAY_FAILED;
+            c->st.overflows++;
+            return TRV_OVERFLOW;
+        }
+        for (uint32_t i = 0; i < k; i++)
+            emit(c, r, ACCEL_EV_PUSH, push[i].ref, push[i].meta, push[i].tnear);
+        *stack_cycles = (uint32_t)cyc;
+    }
+    rt_child near;
+    rt_node_child(node, (int)sort_key_slot(keys[0]), &near);
+    return take_target(c, r, near.ref, near.meta & RT_META_COUNT_MASK);
+}

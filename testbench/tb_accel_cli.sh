@@ -1,0 +1,125 @@
+#!/usr/bin/env bash
+# tb_accel_cli — rtsim's command line (SPEC.md "Command-line conventions"):
+# help/version/--help-module, the summary and JSON (cycles, rays, mrps,
+# dram_bytes with units and descriptions), VCD with scopes per unit, a window
+# and a filter, the heatmap, FIFO auto-sizing (the written machine loads back
+# and runs with the same results), determinism, and bad input: unknown or
+# out-of-range --set keys, bad options/values/scenes -> a message naming the
+# key or value and the allowed range, exit 2, no output file left behind;
+# a deadlocking machine -> exit 1 with a report.
+set -u
+bin=${RTSIM_BIN:?}/rtsim
+tmp=${RTSIM_TMP:-/tmp}/tb_accel_cli
+rm -rf "$tmp"; mkdir -p "$tmp"
+
+pass() { echo "PASS $1"; }
+fail() { echo "FAIL $1: $2"; }
+# expect NAME EXIT_CODE PATTERN -- command...
+expect() {
+  local name=$1 code=$2 pat=$3; shift 4
+  local out rc
+  out=$("$@" 2>&1); rc=$?
+  if [ $rc -ne "$code" ]; then fail "$name" "exit $rc, expected $code: $(echo "$out" | head -3 | tr '\n' ' ')"
+  elif ! echo "$out" | grep -qF -- "$pat"; then fail "$name" "output lacks '$pat': $(echo "$out" | head -3 | tr '\n' ' ')"
+  else pass "$name"; fi
+}
+check() { # NAME CONDITION-COMMAND... (0 = pass)
+  local name=$1; shift
+  if "$@"; then pass "$name"; else fail "$name" "check failed: $*"; fi
+}
+
+# a small mesh (a bumpy 12x12 grid of quads and a floating box: 300 triangles)
+# keeps each run fast, also under the sanitizers; its view is the "auto" one
+awk 'BEGIN {
+  n = 12
+  for (j = 0; j <= n; j++) for (i = 0; i <= n; i++) printf "v %d %g %d\n", i, ((i * 7 + j * 3) % 5) * 0.2, j
+  for (j = 0; j < n; j++) for (i = 0; i < n; i++) {
+    a = j * (n + 1) + i + 1; b = a + 1; c = a + n + 1; d = c + 1
+    printf "f %d %d %d\nf %d %d %d\n", a, b, d, a, d, c
+  }
+  base = (n + 1) * (n + 1)
+  for (k = 0; k < 8; k++) printf "v %g %g %g\n", 4 + 3 * (k % 2), 2 + 2 * (int(k / 2) % 2), 4 + 3 * int(k / 4)
+  split("1 2 4 3 5 6 8 7 1 2 6 5 3 4 8 7 1 3 7 5 2 4 8 6", q, " ")
+  for (f = 0; f < 6; f++) {
+    v1 = base + q[4 * f + 1]; v2 = base + q[4 * f + 2]; v3 = base + q[4 * f + 3]; v4 = base + q[4 * f + 4]
+    printf "f %d %d %d %d\n", v1, v2, v3, v4
+  }
+}' > "$tmp/small.obj"
+scene=$tmp/small.obj
+small=("$scene" --res 24x16 --quiet)
+expect accel_cli_help 0 "usage: rtsim" -- "$bin" --help
+expect accel_cli_version 0 "git" -- "$bin" --version
+expect accel_cli_help_module_trv 0 "stack_depth" -- "$bin" --help-module trv
+expect accel_cli_help_module_ist 0 "flops_per_test" -- "$bin" --help-module ist
+expect accel_cli_help_module_cache_section 0 "mshrs" -- "$bin" --help-module node_l1
+expect accel_cli_help_module_memory_unit 0 "mshr" -- "$bin" --help-module cache
+expect accel_cli_help_module_unknown 2 "no such module" -- "$bin" --help-module nosuch
+expect accel_cli_bad_option 2 "usage" -- "$bin" --bogus
+expect accel_cli_bad_rays 2 "--rays sideways: allowed values are primary, diffuse" -- "$bin" --rays sideways
+expect accel_cli_bad_res 2 "0x5" -- "$bin" interior --res 0x5
+expect accel_cli_bad_bounces 2 "allowed range 0..64" -- "$bin" --bounces 99
+expect accel_cli_bad_scene 2 "nosuchscene" -- "$bin" nosuchscene
+expect accel_cli_unknown_key 2 "trv.nosuch" -- "$bin" "${small[@]}" --set trv.nosuch=3
+expect accel_cli_key_range 2 "allowed 1..64" -- "$bin" "${small[@]}" --set trv.count=0
+expect accel_cli_key_type 2 "trv.slots" -- "$bin" "${small[@]}" --set trv.slots=many
+expect accel_cli_bad_machine 2 "nosuchmachine" -- "$bin" "${small[@]}" --machine nosuchmachine
+expect accel_cli_bad_window 2 "--vcd-window 9:3" -- "$bin" "${small[@]}" --vcd "$tmp/x.vcd" --vcd-window 9:3
+expect accel_cli_bad_heatmap 2 "must end in .png or .exr" -- "$bin" "${small[@]}" --heatmap "$tmp/h.txt"
+check accel_cli_no_partial_outputs test ! -e "$tmp/x.vcd" -a ! -e "$tmp/h.txt"
+
+# the default scene is the built-in interior: one run of it
+expect accel_cli_default_scene 0 "scene       interior" -- "$bin" --res 8x4
+
+# a run: summary lines and JSON
+out=$("$bin" "$scene" --res 24x16 --machine mbvh4 --json "$tmp/a.json" 2>&1); rc=$?
+if [ $rc -eq 0 ] && echo "$out" | grep -q '^MRPS' && echo "$out" | grep -q '^caches' && echo "$out" | grep -q '^DRAM' \
+   && echo "$out" | grep -q '^utilization' && echo "$out" | grep -q '^in flight'; then pass accel_cli_summary
+else fail accel_cli_summary "rc $rc: $(echo "$out" | head -3 | tr '\n' ' ')"; fi
+if python3 - "$tmp/a.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+for k in ("cycles", "rays", "mrps", "dram_bytes"):
+    assert k in d, k
+    assert k in d["_units"] and k in d["_descriptions"], k
+assert d["rays"] == 24 * 16, d["rays"]
+assert d["cycles"] > 0 and d["mrps"] > 0
+assert any(k.startswith("trv0.") for k in d), "per-unit stats"
+assert all(k in d["_units"] for k in d if not k.startswith("_")), "every stat has a unit"
+PY
+then pass accel_cli_json; else fail accel_cli_json "missing fields or units"; fi
+
+# determinism: the same run twice gives the same JSON
+"$bin" "$scene" --res 24x16 --machine mbvh4 --rays diffuse --json "$tmp/d1.json" --quiet
+"$bin" "$scene" --res 24x16 --machine mbvh4 --rays diffuse --json "$tmp/d2.json" --quiet
+check accel_cli_deterministic cmp -s "$tmp/d1.json" "$tmp/d2.json"
+
+# VCD: scopes per unit, window and filter
+"$bin" "$scene" --res 16x8 --quiet --vcd "$tmp/w.vcd" --vcd-window 100:400
+if grep -q '^\$scope module trv0 \$end' "$tmp/w.vcd" && grep -q 'state' "$tmp/w.vcd" && grep -q 'issue_ray' "$tmp/w.vcd" \
+   && grep -q 'occupancy' "$tmp/w.vcd" && grep -q '^#' "$tmp/w.vcd" \
+   && [ -z "$(awk '/^#/ { t = substr($1, 2) + 0; if (t < 200 || t > 800) print t }' "$tmp/w.vcd")" ]; then
+  pass accel_cli_vcd_scopes_window
+else fail accel_cli_vcd_scopes_window "scopes or window wrong"; fi
+"$bin" "$scene" --res 16x8 --quiet --vcd "$tmp/f.vcd" --vcd-filter 'trv0.*'
+if grep -q 'module trv0' "$tmp/f.vcd" && ! grep -q 'module trv1' "$tmp/f.vcd" && ! grep -q 'module ist' "$tmp/f.vcd"; then
+  pass accel_cli_vcd_filter
+else fail accel_cli_vcd_filter "filter not applied"; fi
+
+# heatmap
+"$bin" "$scene" --res 32x18 --quiet --heatmap "$tmp/h.png"
+check accel_cli_heatmap test -s "$tmp/h.png"
+
+# FIFO auto-sizing: the written machine loads back and gives the same frame
+"$bin" "$scene" --res 24x16 --quiet --machine mbvh4 --autosize-fifos "$tmp/sized.ini" --json "$tmp/s1.json"
+if [ -s "$tmp/sized.ini" ] && grep -q '^ray_new *= *[0-9]' "$tmp/sized.ini" && grep -q '^mem_req *= *[0-9]' "$tmp/sized.ini" \
+   && ! grep -q '^ray_trv_loop *= *32$' "$tmp/sized.ini"; then pass accel_cli_autosize_written
+else fail accel_cli_autosize_written "sized.ini missing keys or unchanged"; fi
+out=$("$bin" "$scene" --res 24x16 --quiet --machine "$tmp/sized.ini" --json "$tmp/s2.json" 2>&1); rc=$?
+if [ $rc -eq 0 ] && python3 -c "import json,sys; a=json.load(open('$tmp/s1.json')); b=json.load(open('$tmp/s2.json')); sys.exit(0 if a['rays']==b['rays'] else 1)"; then
+  pass accel_cli_autosize_reload
+else fail accel_cli_autosize_reload "rc $rc: $out"; fi
+
+# an undersized FIFO deadlocks: exit 1 and a report naming the unit
+expect accel_cli_deadlock_exit1 1 "deadlock" -- "$bin" "$scene" --res 32x32 --quiet --set fifo.ray_trv_loop=1
+# a stack too small for the scene: exit 1 naming the key
+expect accel_cli_stack_too_small 1 "trv.stack_depth" -- "$bin" "$scene" --res 16x16 --quiet --set trv.stack_depth=1

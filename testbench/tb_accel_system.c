@@ -1,0 +1,448 @@
+/* tb_accel_system.c — system testbench of the accelerator model: on every
+ * built-in scene at reduced resolution, primary and diffuse rays, BVH2 and
+ * MBVH4 machines, every ray's hit from the cycle-level model must equal the
+ * reference traversal's (tracer/traverse.h) bit for bit, and every ray's
+ * event sequence (node visits, pushes, pops, culls, leaves, triangle tests,
+ * done) must equal the reference log. Also: the diffuse ray count equals the
+ * tracer's own diffuse ray set, the run is deterministic (same cycles and
+ * statistics twice), and the undersized-FIFO deadlock is reported. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "cli/rtsim_frame.h"
+#include "model/accel_config.h"
+#include "model/accel_top.h"
+#include "model/memsys_config.h"
+#include "testbench/tb.h"
+#include "tracer/builtin.h"
+#include "tracer/ray_set.h"
+#include "tracer/traverse.h"
+
+typedef struct ev {
+    uint8_t kind;
+    uint32_t a, b;
+    float t;
+} ev;
+
+typedef struct ev_list {
+    ev *e;
+    uint32_t n, cap;
+} ev_list;
+
+typedef struct ray_rec {
+    rt_ray ray;
+    rt_hit hit;
+    bool done, failed;
+} ray_rec;
+
+typedef struct run_log {
+    ev_list *lists;        /* per uid */
+    ray_rec *recs;         /* per uid */
+    uint32_t cap;
+    uint64_t completed;
+    bool oom;
+} run_log;
+
+static bool grow(run_log *l, uint32_t uid)
+{
+    if (uid < l->cap)
+        return true;
+    uint32_t nc = l->cap ? l->cap : 1024;
+    while (nc <= uid)
+        nc *= 2;
+    ev_list *nl = realloc(l->lists, nc * sizeof *nl);
+    if (nl)
+        l->lists = nl;
+    ray_rec *nr = realloc(l->recs, nc * sizeof *nr);
+    if (nr)
+        l->recs = nr;
+    if (!nl || !nr) {
+        l->oom = true;
+        return false;
+    }
+    memset(l->lists + l->cap, 0, (nc - l->cap) * sizeof *nl);
+    memset(l->recs + l->cap, 0, (nc - l->cap) * sizeof *nr);
+    l->cap = nc;
+    return true;
+}
+
+static void push_ev(ev_list *l, int kind, uint32_t a, uint32_t b, float t)
+{
+    if (l->n == l->cap) {
+        uint32_t nc = l->cap ? l->cap * 2 : 64;
+        ev *ne = realloc(l->e, nc * sizeof *ne);
+        if (!ne)
+            return;
+        l->e = ne;
+        l->cap = nc;
+    }
+    l->e[l->n++] = (ev){(uint8_t)kind, a, b, t};
+}
+
+static void model_event(void *user, uint32_t uid, int kind, uint32_t a, uint32_t b, float t)
+{
+    run_log *l = user;
+    if (grow(l, uid))
+        push_ev(&l->lists[uid], kind, a, b, t);
+}
+
+static void model_complete(void *user, uint32_t uid, const rt_ray *ray, const rt_hit *hit, uint64_t admit,
+                           uint64_t done, bool failed)
+{
+    (void)admit, (void)done;
+    run_log *l = user;
+    if (!grow(l, uid))
+        return;
+    l->recs[uid] = (ray_rec){*ray, *hit, true, failed};
+    l->completed++;
+}
+
+static void ref_event(void *user, const rt_trv_event *e) { push_ev(user, e->kind, e->a, e->b, e->t); }
+
+static void log_free(run_log *l)
+{
+    for (uint32_t i = 0; i < l->cap; i++)
+        free(l->lists[i].e);
+    free(l->lists);
+    free(l->recs);
+    memset(l, 0, sizeof *l);
+}
+
+static bool same_float(float a, float b) { return memcmp(&a, &b, sizeof a) == 0; }
+
+static rtcfg *machine_cfg(const char *preset, const char *const *sets, char *err, size_t errlen)
+{
+    rtcfg *cfg = rtcfg_create();
+    if (!cfg || memsys_add_schemas(cfg, err, errlen) || accel_add_schemas(cfg, err, errlen) ||
+        rtcfg_load(cfg, preset, err, errlen)) {
+        rtcfg_destroy(cfg);
+        return NULL;
+    }
+    for (int i = 0; sets && sets[i]; i++)
+        if (rtcfg_set(cfg, sets[i], err, errlen)) {
+            rtcfg_destroy(cfg);
+            return NULL;
+        }
+    if (rtcfg_finish(cfg, err, errlen)) {
+        rtcfg_destroy(cfg);
+        return NULL;
+    }
+    return cfg;
+}
+
+typedef struct totals {
+    uint64_t rays, hit_mismatch, event_mismatch, events;
+} totals;
+
+/* One scene x machine x ray type: run the model, compare every ray. */
+static void check_case_width(const rt_scene *sc, const char *preset, int width, const char *memory, bool diffuse,
+                             uint32_t w, uint32_t h, totals *tot)
+{
+    char name[400], err[4096], memset_[64], widthset[64];
+    snprintf(name, sizeof name, "system_%s_%s%s%.0d_%s_%ux%u_%s", sc->name, preset, width ? "_width" : "", width,
+             diffuse ? "diffuse" : "primary", w, h, memory);
+    tb_begin(name);
+    snprintf(memset_, sizeof memset_, "memory.model=%s", memory);
+    snprintf(widthset, sizeof widthset, "machine.branching=%d", width);
+    /* odd widths: unaligned nodes, served by a two-bank node L1 (paper 3.1) */
+    const char *const sets[] = {memset_, width ? widthset : NULL, "node_l1.banks=2", NULL};
+    rtcfg *cfg = machine_cfg(preset, sets, err, sizeof err);
+    if (!TB_CHECK(cfg != NULL, "config: %s", err)) {
+        tb_end();
+        return;
+    }
+    rt_bvh_params bp;
+    rt_bvh_params_default(&bp);
+    bp.width = (int)rtcfg_int(cfg, "machine.branching");
+    rt_bvh_image img;
+    memset(&img, 0, sizeof img);
+    run_log log = {0};
+    rtsim_frame fr;
+    memset(&fr, 0, sizeof fr);
+    accel_top *top = NULL;
+    if (!TB_CHECK(rt_bvh_build(&sc->mesh, &bp, &img, NULL, err, sizeof err), "bvh: %s", err))
+        goto out;
+    accel_source src;
+    if (!TB_CHECK(rtsim_frame_init(&fr, &sc->mesh, &sc->views.v[0], w, h, diffuse, 4, 1, false, &src, err, sizeof err),
+                  "%s", err))
+        goto out;
+    fr.hook = model_complete;
+    fr.hook_user = &log;
+    accel_image aimg = rtsim_image(&img);
+    accel_top_opts o = {0};
+    o.events = model_event;
+    o.events_user = &log;
+    top = accel_top_create(cfg, &aimg, &src, &o, err, sizeof err);
+    if (!TB_CHECK(top != NULL, "create: %s", err))
+        goto out;
+    int rc = accel_top_run(top, NULL, NULL, err, sizeof err);
+    if (!TB_CHECK(rc == 0, "run failed: %s", err))
+        goto out;
+    TB_CHECK(!log.oom, "out of memory in the log");
+    TB_EQ_INT(log.completed, accel_top_rays(top));
+    TB_CHECK(accel_top_cycles(top) > 0, "cycles counted");
+
+    /* every ray against the reference traversal */
+    rt_trv_params tp;
+    rt_trv_params_default(&tp, bp.width);
+    tp.stack_depth = (int)rtcfg_int(cfg, "trv.stack_depth");
+    tp.distance_cull = accel_top_params(top)->trv.core.distance_cull;
+    uint64_t hit_bad = 0, ev_bad = 0, nev = 0;
+    ev_list ref = {0};
+    for (uint32_t uid = 0; uid < log.completed && uid < log.cap; uid++) {
+        const ray_rec *r = &log.recs[uid];
+        if (!r->done) {
+            hit_bad++;
+            continue;
+        }
+        rt_hit rh;
+        ref.n = 0;
+        bool ok = rt_trace_ray(&img, &tp, &r->ray, &rh, NULL, ref_event, &ref);
+        if (!ok || r->failed || rh.prim != r->hit.prim || !same_float(rh.t, r->hit.t) || !same_float(rh.u, r->hit.u) ||
+            !same_float(rh.v, r->hit.v)) {
+            if (hit_bad++ == 0)
+                TB_CHECK(0, "ray %u (pixel %u bounce %u): model prim %u t %.9g, reference prim %u t %.9g", uid,
+                         r->ray.pixel, r->ray.bounce, r->hit.prim, r->hit.t, rh.prim, rh.t);
+        }
+        const ev_list *m = &log.lists[uid];
+        nev += m->n;
+        bool same = m->n == ref.n;
+        uint32_t first = 0;
+        for (uint32_t i = 0; same && i < m->n; i++) {
+            const ev *a = &m->e[i], *b = &ref.e[i];
+            if (a->kind != b->kind || a->a != b->a || a->b != b->b || !same_float(a->t, b->t)) {
+                same = false;
+                first = i;
+            }
+        }
+        if (!same && ev_bad++ == 0)
+            TB_CHECK(0, "ray %u: event sequences differ (model %u events, reference %u; first difference at %u)", uid,
+                     m->n, ref.n, first);
+    }
+    free(ref.e);
+    TB_EQ_INT(hit_bad, 0);
+    TB_EQ_INT(ev_bad, 0);
+    tot->rays += log.completed;
+    tot->hit_mismatch += hit_bad;
+    tot->event_mismatch += ev_bad;
+    tot->events += nev;
+
+    /* ray count: the tracer's own primary + diffuse set */
+    rt_ray_set prim_set = {0}, dif_set = {0};
+    if (TB_CHECK(rt_ray_set_primary(&sc->views.v[0], w, h, &prim_set, err, sizeof err), "%s", err)) {
+        uint64_t want = prim_set.n;
+        if (diffuse && TB_CHECK(rt_ray_set_diffuse(&sc->mesh, &img, &tp, &prim_set, 1, 4, &dif_set, err, sizeof err),
+                                "%s", err))
+            want += dif_set.n;
+        TB_EQ_INT(log.completed, want);
+    }
+    rt_ray_set_free(&prim_set);
+    rt_ray_set_free(&dif_set);
+    printf("INFO %s: %llu rays, %llu events, %llu cycles, %.2f MRPS, hit mismatches %llu, event mismatches %llu\n", name,
+           (unsigned long long)log.completed, (unsigned long long)nev, (unsigned long long)accel_top_cycles(top),
+           accel_top_mrps(top), (unsigned long long)hit_bad, (unsigned long long)ev_bad);
+out:
+    accel_top_destroy(top);
+    rtsim_frame_free(&fr);
+    log_free(&log);
+    rt_bvh_image_free(&img);
+    rtcfg_destroy(cfg);
+    tb_end();
+}
+
+static void check_case(const rt_scene *sc, const char *preset, const char *memory, bool diffuse, uint32_t w, uint32_t h,
+                       totals *tot)
+{
+    check_case_width(sc, preset, 0, memory, diffuse, w, h, tot);
+}
+
+/* Runs a frame and returns cycles (0 on failure, message in err). */
+static uint64_t run_frame(const rt_scene *sc, const char *preset, const char *const *sets, uint32_t w, uint32_t h,
+                          bool diffuse, char *json, size_t jsonlen, char *err, size_t errlen, int *rc_out)
+{
+    rtcfg *cfg = machine_cfg(preset, sets, err, errlen);
+    if (!cfg)
+        return 0;
+    rt_bvh_params bp;
+    rt_bvh_params_default(&bp);
+    bp.width = (int)rtcfg_int(cfg, "machine.branching");
+    rt_bvh_image img;
+    uint64_t cycles = 0;
+    rtsim_frame fr;
+    memset(&fr, 0, sizeof fr);
+    if (rt_bvh_build(&sc->mesh, &bp, &img, NULL, err, errlen)) {
+        accel_source src;
+        if (rtsim_frame_init(&fr, &sc->mesh, &sc->views.v[0], w, h, diffuse, 4, 1, false, &src, err, errlen)) {
+            accel_image aimg = rtsim_image(&img);
+            accel_top_opts o = {0};
+            o.deadlock_cycles = 20000;
+            accel_top *top = accel_top_create(cfg, &aimg, &src, &o, err, errlen);
+            if (top) {
+                *rc_out = accel_top_run(top, NULL, NULL, err, errlen);
+                cycles = accel_top_cycles(top);
+                if (json) {
+                    FILE *f = fmemopen(json, jsonlen, "w");
+                    if (f) {
+                        ks_stats_write_json(accel_top_stats(top), f);
+                        fclose(f);
+                    }
+                }
+                accel_top_destroy(top);
+            }
+        }
+        rt_bvh_image_free(&img);
+    }
+    rtsim_frame_free(&fr);
+    rtcfg_destroy(cfg);
+    return cycles;
+}
+
+/* Runs a frame, returns cycles and the named statistics (0 when absent). */
+static uint64_t run_stats(const rt_scene *sc, const char *const *sets, const char *const *names, double *vals, int n,
+                          char *err, size_t errlen)
+{
+    rtcfg *cfg = machine_cfg("mbvh4", sets, err, errlen);
+    if (!cfg)
+        return 0;
+    rt_bvh_params bp;
+    rt_bvh_params_default(&bp);
+    bp.width = (int)rtcfg_int(cfg, "machine.branching");
+    rt_bvh_image img;
+    uint64_t cycles = 0;
+    rtsim_frame fr;
+    memset(&fr, 0, sizeof fr);
+    if (rt_bvh_build(&sc->mesh, &bp, &img, NULL, err, errlen)) {
+        accel_source src;
+        if (rtsim_frame_init(&fr, &sc->mesh, &sc->views.v[0], 64, 36, false, 4, 1, false, &src, err, errlen)) {
+            accel_image aimg = rtsim_image(&img);
+            accel_top *top = accel_top_create(cfg, &aimg, &src, NULL, err, errlen);
+            if (top && accel_top_run(top, NULL, NULL, err, errlen) == 0) {
+                cycles = accel_top_cycles(top);
+                /* each name is summed over the TRVs when it starts with "trv." */
+                for (int i = 0; i < n; i++) {
+                    vals[i] = 0;
+                    for (int k = 0; k < 64; k++) {
+                        char nm[128];
+                        double v;
+                        if (strncmp(names[i], "trv.", 4))
+                            snprintf(nm, sizeof nm, "%s", names[i]);
+                        else
+                            snprintf(nm, sizeof nm, "trv%d.%s", k, names[i] + 4);
+                        if (ks_stats_value(accel_top_stats(top), nm, &v))
+                            break;
+                        vals[i] += v;
+                        if (strncmp(names[i], "trv.", 4))
+                            break;
+                    }
+                }
+            }
+            accel_top_destroy(top);
+        }
+        rt_bvh_image_free(&img);
+    }
+    rtsim_frame_free(&fr);
+    rtcfg_destroy(cfg);
+    return cycles;
+}
+
+static void test_banks_and_looping(const rt_scene *sc)
+{
+    char err[4096];
+    static const char *const names[] = {"trv.stack_conflict_cycles", "trv.loops_miss", "trv.visits", "ist.loops_miss"};
+    double base[4] = {0}, one[4] = {0};
+    tb_begin("system_stack_bank_conflicts");
+    static const char *const fixed[] = {"memory.model=fixed", NULL};
+    static const char *const onebank[] = {"memory.model=fixed", "trv.stack_banks=1", NULL};
+    uint64_t c_base = run_stats(sc, fixed, names, base, 4, err, sizeof err);
+    uint64_t c_one = run_stats(sc, onebank, names, one, 4, err, sizeof err);
+    TB_CHECK(c_base > 0 && c_one > 0, "runs: %s", err);
+    /* with N-1 = 3 banks only pops that cull several entries conflict */
+    TB_CHECK(one[0] > 4 * base[0], "1 bank: many more conflict cycles (%g vs %g)", one[0], base[0]);
+    TB_CHECK(c_one > c_base, "conflicts cost cycles (%llu vs %llu)", (unsigned long long)c_one, (unsigned long long)c_base);
+    TB_CHECK(one[2] == base[2], "same visits (%g vs %g)", one[2], base[2]);
+    tb_end();
+
+    tb_begin("system_looping_for_next_chance");
+    /* cold caches and a slow memory: rays miss and loop; each loop costs a
+     * pass but the committed work (visits) is unchanged */
+    static const char *const slow[] = {"memory.model=fixed", "memory.fixed_latency=400", NULL};
+    double sl[4] = {0};
+    uint64_t c_slow = run_stats(sc, slow, names, sl, 4, err, sizeof err);
+    TB_CHECK(c_slow > c_base, "slower memory, more cycles (%llu vs %llu): %s", (unsigned long long)c_slow,
+             (unsigned long long)c_base, err);
+    TB_CHECK(base[1] > 0 && base[3] > 0, "TRV and IST loop on misses (%g, %g)", base[1], base[3]);
+    TB_CHECK(sl[1] > base[1], "more TRV loops with a slower memory (%g vs %g)", sl[1], base[1]);
+    TB_CHECK(sl[2] == base[2], "same committed visits (%g vs %g)", sl[2], base[2]);
+    tb_end();
+}
+
+static void test_determinism_and_deadlock(const rt_scene *sc)
+{
+    char err[8192];
+    static char j1[1 << 16], j2[1 << 16];
+    tb_begin("system_deterministic_repeat");
+    int rc1 = -1, rc2 = -1;
+    uint64_t c1 = run_frame(sc, "mbvh4", NULL, 24, 16, true, j1, sizeof j1, err, sizeof err, &rc1);
+    uint64_t c2 = run_frame(sc, "mbvh4", NULL, 24, 16, true, j2, sizeof j2, err, sizeof err, &rc2);
+    TB_CHECK(rc1 == 0 && rc2 == 0, "runs succeed: %s", err);
+    TB_CHECK(c1 > 0 && c1 == c2, "same cycles twice (%llu, %llu)", (unsigned long long)c1, (unsigned long long)c2);
+    TB_CHECK(strcmp(j1, j2) == 0, "identical statistics JSON");
+    TB_CHECK(strstr(j1, "\"cycles\"") && strstr(j1, "\"rays\"") && strstr(j1, "\"mrps\"") && strstr(j1, "\"dram_bytes\""),
+             "JSON has cycles, rays, mrps, dram_bytes");
+    tb_end();
+
+    tb_begin("system_deadlock_report_on_undersized_fifo");
+    /* a one-entry loop FIFO: the TRV's exit stage waits for the loop FIFO,
+     * which only its own (blocked) issue stage drains */
+    static const char *const sets[] = {"fifo.ray_trv_loop=1", NULL};
+    int rc = -1;
+    err[0] = 0;
+    run_frame(sc, "mbvh4", sets, 32, 32, false, NULL, 0, err, sizeof err, &rc);
+    TB_EQ_INT(rc, 1);
+    TB_CHECK(strstr(err, "deadlock") != NULL, "report says deadlock: %.200s", err);
+    TB_CHECK(strstr(err, "trv0") != NULL, "report names the TRV: %.300s", err);
+    TB_CHECK(strstr(err, "loop 1/1") != NULL, "report shows the full loop FIFO: %.400s", err);
+    tb_end();
+}
+
+int main(void)
+{
+    bool small = tb_is_sanitized();
+    totals tot = {0};
+    for (unsigned i = 0; i < rt_builtin_count(); i++) {
+        rt_scene sc;
+        char err[512];
+        char lname[96];
+        snprintf(lname, sizeof lname, "system_load_scene_%s", rt_builtin_name(i));
+        tb_begin(lname);
+        bool ok = rt_scene_load(rt_builtin_name(i), &sc, err, sizeof err);
+        TB_CHECK(ok, "%s: %s", rt_builtin_name(i), err);
+        tb_end();
+        if (!ok)
+            continue;
+        static const char *const presets[] = {"bvh2", "mbvh4"};
+        for (int m = 0; m < 2; m++) {
+            /* fixed-latency memory: the comparison does not depend on the
+             * memory's timing, and it keeps the suite fast */
+            check_case(&sc, presets[m], "fixed", false, small ? 16 : 48, small ? 9 : 27, &tot);
+            check_case(&sc, presets[m], "fixed", true, small ? 8 : 24, small ? 5 : 14, &tot);
+        }
+        /* and the default LPDDR3 memory on one case per scene */
+        check_case(&sc, "mbvh4", "lpddr3", true, small ? 8 : 48, small ? 5 : 27, &tot);
+        if (i == 0) {
+            /* other widths (paper 3.1: MBVH3, MBVH5, MBVH6 were tried) */
+            for (int wd = 3; wd <= 8; wd += (wd == 3 ? 2 : 1))
+                if (wd != 4)
+                    check_case_width(&sc, "mbvh4", wd, "fixed", wd == 5, small ? 12 : 32, small ? 7 : 18, &tot);
+            test_determinism_and_deadlock(&sc);
+            test_banks_and_looping(&sc);
+        }
+        rt_scene_free(&sc);
+    }
+    printf("INFO total: %llu rays compared, %llu events, %llu hit mismatches, %llu event-sequence mismatches\n",
+           (unsigned long long)tot.rays, (unsigned long long)tot.events, (unsigned long long)tot.hit_mismatch,
+           (unsigned long long)tot.event_mismatch);
+    return tb_finish();
+}

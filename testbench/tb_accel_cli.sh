@@ -12,21 +12,7 @@ bin=${RTSIM_BIN:?}/rtsim
 tmp=${RTSIM_TMP:-/tmp}/tb_accel_cli
 rm -rf "$tmp"; mkdir -p "$tmp"
 
-pass() { echo "PASS $1"; }
-fail() { echo "FAIL $1: $2"; }
-# expect NAME EXIT_CODE PATTERN -- command...
-expect() {
-  local name=$1 code=$2 pat=$3; shift 4
-  local out rc
-  out=$("$@" 2>&1); rc=$?
-  if [ $rc -ne "$code" ]; then fail "$name" "exit $rc, expected $code: $(echo "$out" | head -3 | tr '\n' ' ')"
-  elif ! echo "$out" | grep -qF -- "$pat"; then fail "$name" "output lacks '$pat': $(echo "$out" | head -3 | tr '\n' ' ')"
-  else pass "$name"; fi
-}
-check() { # NAME CONDITION-COMMAND... (0 = pass)
-  local name=$1; shift
-  if "$@"; then pass "$name"; else fail "$name" "check failed: $*"; fi
-}
+. "$(dirname "$0")/cli_lib.sh"
 
 # a small mesh (a bumpy 12x12 grid of quads and a floating box: 300 triangles)
 # keeps each run fast, also under the sanitizers; its view is the "auto" one

@@ -10,18 +10,7 @@ bin=${RTSIM_BIN:?}/rtdram
 tmp=${RTSIM_TMP:-/tmp}/tb_dram_cli
 rm -rf "$tmp"; mkdir -p "$tmp"
 
-pass() { echo "PASS $1"; }
-fail() { echo "FAIL $1: $2"; }
-
-# expect NAME EXIT_CODE PATTERN_IN_STDERR_OR_STDOUT -- command...
-expect() {
-  local name=$1 code=$2 pat=$3; shift 4
-  local out rc
-  out=$("$@" 2>&1); rc=$?
-  if [ $rc -ne "$code" ]; then fail "$name" "exit $rc, expected $code: $(echo "$out" | head -2 | tr '\n' ' ')"
-  elif ! echo "$out" | grep -qF -- "$pat"; then fail "$name" "output lacks '$pat': $(echo "$out" | head -2 | tr '\n' ' ')"
-  else pass "$name"; fi
-}
+. "$(dirname "$0")/cli_lib.sh"
 
 printf '0x0 R\n0x10000 R\n' > "$tmp/m3.trace"
 printf '0x0 R\n# comment\n\n0x40 X\n' > "$tmp/bad_rw.trace"

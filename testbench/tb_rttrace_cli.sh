@@ -18,18 +18,7 @@ rm -rf "$tmp"; mkdir -p "$tmp"
 res=64x36 scenes="interior hairball city forest"
 [ -n "${RTSIM_TB_SANITIZED:-}" ] && res=32x18 scenes="interior city"
 
-pass() { echo "PASS $1"; }
-fail() { echo "FAIL $1: $2"; }
-
-# expect NAME EXIT_CODE PATTERN -- command...   (pattern searched in stdout+stderr)
-expect() {
-  local name=$1 code=$2 pat=$3; shift 4
-  local out rc
-  out=$("$@" 2>&1); rc=$?
-  if [ $rc -ne "$code" ]; then fail "$name" "exit $rc, expected $code: $(echo "$out" | head -3 | tr '\n' ' ')"
-  elif ! echo "$out" | grep -qF -- "$pat"; then fail "$name" "output lacks '$pat': $(echo "$out" | head -3 | tr '\n' ' ')"
-  else pass "$name"; fi
-}
+. "$(dirname "$0")/cli_lib.sh"
 
 # Usage errors exit before any tracing: checked in the release build only
 # (the sanitizer build runs the traced cases below).

@@ -1,6 +1,6 @@
 /* rtdram — runs a DRAM request trace through the LPDDR3 controller model.
  *   rtdram TRACE [--config FILE] [--power FILE] [--set KEY=VALUE]... [--json]
- *                [--cmd-trace FILE] [--check] [--help] [--version]
+ *                [--cmd-trace FILE] [--check] [--exhaustive] [--kernel] [--help] [--version]
  * Exit: 0 ok, 1 timing violations found by --check, 2 bad usage or input. */
 #include <getopt.h>
 #include <stdio.h>
@@ -12,6 +12,7 @@
 #include "model/dram_checker.h"
 #include "model/dram_ctrl.h"
 #include "model/dram_energy.h"
+#include "model/dram_port_trace.h"
 #include "model/dram_report.h"
 #include "model/dram_timing.h"
 #include "model/dram_trace.h"
@@ -39,6 +40,8 @@ static void usage(FILE *o)
             "  --cmd-trace FILE  write the command stream (cycle,channel,rank,bank,CMD,row)\n"
             "  --check           run the timing checker on the command stream (exit 1 on violation)\n"
             "  --exhaustive      run the scheduler every cycle, no idle skipping (slow reference mode)\n"
+            "  --kernel          run the trace through the kernel module (request/response FIFOs,\n"
+            "                    DRAM clock) instead of the direct loop: same results, slower\n"
             "  --help, --version\n",
             RTSIM_DATA_DIR);
 }
@@ -66,12 +69,12 @@ int main(int argc, char **argv)
         {"config", required_argument, 0, 'c'}, {"power", required_argument, 0, 'p'},
         {"set", required_argument, 0, 's'},    {"json", no_argument, 0, 'j'},
         {"cmd-trace", required_argument, 0, 't'}, {"check", no_argument, 0, 'k'},
-        {"exhaustive", no_argument, 0, 'x'},
+        {"exhaustive", no_argument, 0, 'x'},   {"kernel", no_argument, 0, 'K'},
         {"help", no_argument, 0, 'h'},         {"version", no_argument, 0, 'v'},
         {0, 0, 0, 0}};
     const char *config = NULL, *power = NULL, *cmd_trace = NULL;
     const char **sets = calloc((size_t)argc, sizeof *sets);
-    int nsets = 0, json = 0, check = 0, exhaustive = 0, o;
+    int nsets = 0, json = 0, check = 0, exhaustive = 0, kernel = 0, o;
     while ((o = getopt_long(argc, argv, "", opts, NULL)) != -1) {
         switch (o) {
         case 'c': config = optarg; break;
@@ -81,6 +84,7 @@ int main(int argc, char **argv)
         case 't': cmd_trace = optarg; break;
         case 'k': check = 1; break;
         case 'x': exhaustive = 1; break;
+        case 'K': kernel = 1; break;
         case 'h': usage(stdout); free(sets); return 0;
         case 'v': printf("rtdram %s (git %s)\n", RTDRAM_VERSION, RTSIM_GIT); free(sets); return 0;
         default: usage(stderr); free(sets); return 2;
@@ -119,13 +123,14 @@ int main(int argc, char **argv)
         fprintf(stderr, "rtdram: %s: cannot open\n", trace);
         return 2;
     }
-    dram_ctrl *c = dram_ctrl_create(&spec, NULL, NULL, err, sizeof err);
-    if (!c) {
+    dram_ctrl *c = kernel ? NULL : dram_ctrl_create(&spec, NULL, NULL, err, sizeof err);
+    if (!kernel && !c) {
         fprintf(stderr, "rtdram: %s\n", err);
         fclose(tf);
         return 2;
     }
-    dram_set_exhaustive(c, exhaustive);
+    if (c)
+        dram_set_exhaustive(c, exhaustive);
     sink sk = {0};
     char tmp[1100];
     if (cmd_trace) {
@@ -141,12 +146,15 @@ int main(int argc, char **argv)
     }
     if (check)
         sk.checker = dram_checker_create(&spec, stderr, 20);
-    if (sk.f || sk.checker)
+    if (c && (sk.f || sk.checker))
         dram_set_cmd_sink(c, on_cmd, &sk);
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     dram_trace_result res;
-    int rc = dram_trace_run(c, tf, trace, &res, err, sizeof err);
+    dram_summary s;
+    int rc = kernel ? dram_port_trace_run(&spec, &pspec, tf, trace, sk.f || sk.checker ? on_cmd : NULL, &sk, exhaustive,
+                                          &res, &s, err, sizeof err)
+                    : dram_trace_run(c, tf, trace, &res, err, sizeof err);
     clock_gettime(CLOCK_MONOTONIC, &t1);
     fclose(tf);
     if (rc) {
@@ -170,12 +178,12 @@ int main(int argc, char **argv)
             return 2;
         }
     }
-    dram_summary s;
-    dram_summary_compute(c, &pspec, &s);
+    if (c)
+        dram_summary_compute(c, &pspec, &s);
     int status = 0;
     uint64_t viol = 0;
     if (sk.checker) {
-        viol = dram_checker_finish(sk.checker, dram_clock(c));
+        viol = dram_checker_finish(sk.checker, s.dram_cycles);
         if (viol)
             status = 1;
     }

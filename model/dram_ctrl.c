@@ -20,10 +20,22 @@ typedef struct dreq {
     uint8_t first;         /* no command issued yet (row hit/miss/conflict not yet counted) */
 } dreq;
 
+/* A request queue. Read, write and act queues also keep, per bank, how many
+ * entries target it and how many of those hit its open row (by type), so the
+ * scheduler decides "can anything issue now" per bank instead of per entry. */
+typedef struct dqcount {
+    uint16_t n;            /* entries targeting the bank */
+    uint16_t hit[2];       /* of which hit its open row, by type (REQ_READ, REQ_WRITE) */
+} dqcount;
+
 typedef struct dqueue {
     dreq *v;
     int n, cap;
+    dqcount *bc;           /* per bank index (rank * banks + bank); NULL: not counted (otherq) */
 } dqueue;
+
+/* Bank indices per channel at most (ranks <= 8, banks <= 64: dram_timing.c). */
+#define MAX_BANK_INDEX 512
 
 typedef struct dbank {
     int64_t eff[DRAM_NCMD];    /* max of channel, rank and bank next[]: when each command may issue */
@@ -87,14 +99,48 @@ static void *xcalloc(size_t n, size_t sz)
     return p;
 }
 
-static void q_init(dqueue *q, int cap)
+static void q_init(dqueue *q, int cap, int nbanks)
 {
     q->cap = cap;
     q->n = 0;
     q->v = xcalloc((size_t)cap, sizeof *q->v);
+    if (nbanks)
+        q->bc = xcalloc((size_t)nbanks, sizeof *q->bc);
 }
 
-static void q_push(dqueue *q, const dreq *r)
+static void q_free(dqueue *q)
+{
+    free(q->v);
+    free(q->bc);
+}
+
+/* Per-bank counters of a counted queue: +1 or -1 for entry r given the banks' state. */
+static inline void q_count(dqueue *q, const dbank *banks, const dreq *r, int d)
+{
+    if (!q->bc)
+        return;
+    dqcount *k = &q->bc[r->bidx];
+    k->n = (uint16_t)(k->n + d);
+    if (banks[r->bidx].open_row >= 0 && (uint32_t)banks[r->bidx].open_row == r->row)
+        k->hit[r->type] = (uint16_t)(k->hit[r->type] + d);
+}
+
+/* Bank bidx changed its open row: recount its row hits in a counted queue. */
+static void q_recount(dqueue *q, const dbank *banks, int bidx)
+{
+    dqcount *k = &q->bc[bidx];
+    k->hit[0] = k->hit[1] = 0;
+    if (banks[bidx].open_row < 0 || !k->n)
+        return;
+    const uint32_t row = (uint32_t)banks[bidx].open_row;
+    for (int i = 0; i < q->n; i++) {
+        const dreq *r = &q->v[i];
+        if (r->bidx == bidx && r->row == row)
+            k->hit[r->type]++;
+    }
+}
+
+static void q_push_raw(dqueue *q, const dreq *r)
 {
     if (q->n == q->cap) {
         q->cap *= 2;
@@ -107,8 +153,16 @@ static void q_push(dqueue *q, const dreq *r)
     q->v[q->n++] = *r;
 }
 
-static void q_erase(dqueue *q, int i)
+static void q_push(dqueue *q, const dbank *banks, const dreq *r)
 {
+    q_count(q, banks, r, +1);
+    q_push_raw(q, r);
+}
+
+
+static void q_erase(dqueue *q, const dbank *banks, int i)
+{
+    q_count(q, banks, &q->v[i], -1);
     memmove(&q->v[i], &q->v[i + 1], (size_t)(q->n - i - 1) * sizeof *q->v);
     q->n--;
 }
@@ -161,10 +215,10 @@ dram_ctrl *dram_ctrl_create(const dram_spec *spec, dram_done_fn done, void *user
     c->ch = xcalloc((size_t)c->nch, sizeof *c->ch);
     for (int i = 0; i < c->nch; i++) {
         dchan *ch = &c->ch[i];
-        q_init(&ch->readq, spec->read_queue);
-        q_init(&ch->writeq, spec->write_queue);
-        q_init(&ch->actq, spec->read_queue + spec->write_queue);
-        q_init(&ch->otherq, 4 * c->nrank);
+        q_init(&ch->readq, spec->read_queue, c->nrank * c->nbank);
+        q_init(&ch->writeq, spec->write_queue, c->nrank * c->nbank);
+        q_init(&ch->actq, spec->read_queue + spec->write_queue, c->nrank * c->nbank);
+        q_init(&ch->otherq, 4 * c->nrank, 0);
         ch->ranks = xcalloc((size_t)c->nrank, sizeof *ch->ranks);
         ch->banks = xcalloc((size_t)(c->nrank * c->nbank), sizeof *ch->banks);
         for (int k = 0; k < DRAM_NCMD; k++)
@@ -186,10 +240,10 @@ void dram_ctrl_destroy(dram_ctrl *c)
         return;
     for (int i = 0; i < c->nch; i++) {
         dchan *ch = &c->ch[i];
-        free(ch->readq.v);
-        free(ch->writeq.v);
-        free(ch->actq.v);
-        free(ch->otherq.v);
+        q_free(&ch->readq);
+        q_free(&ch->writeq);
+        q_free(&ch->actq);
+        q_free(&ch->otherq);
         free(ch->pend);
         free(ch->ranks);
         free(ch->banks);
@@ -290,6 +344,77 @@ static int pick(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, int64_t *m
     return best;
 }
 
+/* Readiness classes of a bank for one queue (bits of a per-bank mask). */
+enum { READY_OTHER = 1, READY_HIT_RD = 2, READY_HIT_WR = 4 };
+
+/* Whether r is ready (as pick() defines it) given its bank's class mask. */
+static inline int counted_ready(const dbank *b, const dreq *r, const uint8_t *mask)
+{
+    if (b->open_row >= 0 && (uint32_t)b->open_row == r->row)
+        return mask[r->bidx] & (r->type == REQ_WRITE ? READY_HIT_WR : READY_HIT_RD);
+    return mask[r->bidx] & READY_OTHER;
+}
+
+/* pick() for a counted queue, with the same result: per bank, the requests fall in
+ * three classes (row hits by reads, by writes, and the rest: ACT if the bank is
+ * closed, PRE if another row is open) that share their next command and thus their
+ * earliest cycle. The per-bank counters give min earliest and "any ready" in
+ * O(banks); the entries are visited only to find the chosen one. */
+static int pick_counted(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, int64_t *min_earliest)
+{
+    if (q->n == 0)
+        return -1;
+    const int nb = c->nrank * c->nbank, cap = c->spec->row_hit_cap;
+    const int64_t now = c->clk;
+    int64_t lo = *min_earliest;
+    uint8_t mask[MAX_BANK_INDEX];
+    int any = 0;
+    for (int i = 0; i < nb; i++) {
+        mask[i] = 0;
+        const dqcount k = q->bc[i];
+        if (!k.n)
+            continue;
+        const dbank *b = &ch->banks[i];
+        const int hr = k.hit[REQ_READ], hw = k.hit[REQ_WRITE];
+        if (k.n > hr + hw) {
+            const int64_t e = b->eff[b->open_row < 0 ? DRAM_ACT : DRAM_PRE];
+            lo = e < lo ? e : lo;
+            mask[i] |= e <= now ? READY_OTHER : 0;
+        }
+        if (hr) {
+            const int64_t e = b->eff[DRAM_RD];
+            lo = e < lo ? e : lo;
+            mask[i] |= e <= now && b->hits <= cap ? READY_HIT_RD : 0;
+        }
+        if (hw) {
+            const int64_t e = b->eff[DRAM_WR];
+            lo = e < lo ? e : lo;
+            mask[i] |= e <= now && b->hits <= cap ? READY_HIT_WR : 0;
+        }
+        any |= mask[i];
+    }
+    *min_earliest = lo;
+    int best = 0;
+    if (sorted) {
+        if (any)
+            for (int i = 0; i < q->n; i++)
+                if (counted_ready(&ch->banks[q->v[i].bidx], &q->v[i], mask))
+                    return i;
+        return 0;
+    }
+    int best_ready = any ? -1 : 0; /* without ready entries, the oldest of all */
+    for (int i = 0; i < q->n; i++) {
+        const dreq *r = &q->v[i];
+        if (any && !counted_ready(&ch->banks[r->bidx], r, mask))
+            continue;
+        if (best_ready < 0 || r->arrive < q->v[best].arrive) {
+            best = i;
+            best_ready = 1;
+        }
+    }
+    return best;
+}
+
 /* ---- issuing ---- */
 
 static void apply_rows(const dram_ctrl *c, int scope, int cmd, int64_t *next, const int64_t (*hist)[DRAM_MAX_WINDOW],
@@ -313,12 +438,21 @@ static void hist_push(int64_t (*hist)[DRAM_MAX_WINDOW], int cmd, int depth, int6
     hist[cmd][0] = now;
 }
 
+/* The open row of bank bidx changed: keep the queues' per-bank hit counts exact. */
+static void bank_row_changed(dchan *ch, int bidx)
+{
+    q_recount(&ch->readq, ch->banks, bidx);
+    q_recount(&ch->writeq, ch->banks, bidx);
+    q_recount(&ch->actq, ch->banks, bidx);
+}
+
 static void close_bank(dchan *ch, drank *rk, dbank *b, int64_t now)
 {
     if (b->open_row < 0)
         return;
     b->open_row = -1;
     b->hits = 0;
+    bank_row_changed(ch, (int)(b - ch->banks));
     ch->st.n_pre_banks++;
     if (--rk->nopen == 0)
         ch->st.open_cycles += (uint64_t)(now - rk->open_since);
@@ -348,6 +482,7 @@ static void issue(dram_ctrl *c, int chi, int cmd, int rank, int bank, uint32_t r
     case DRAM_ACT:
         banks[bank].open_row = (int32_t)row;
         banks[bank].hits = 0;
+        bank_row_changed(ch, rank * c->nbank + bank);
         if (rk->nopen++ == 0)
             rk->open_since = now;
         break;
@@ -404,7 +539,7 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
                 pend_push(ch, &r);
                 return true;
             }
-    q_push(queue_for(ch, is_write), &r);
+    q_push(queue_for(ch, is_write), ch->banks, &r);
     ch->sched_wake = 0;
     return true;
 }
@@ -441,7 +576,7 @@ static void chan_tick(dram_ctrl *c, int chi)
         for (int rk = 0; rk < c->nrank; rk++) {
             dreq r = {.arrive = now, .rank = (uint16_t)rk, .bidx = (uint16_t)(rk * c->nbank), .type = REQ_REFRESH,
                       .first = 0};
-            q_push(&ch->otherq, &r);
+            q_push(&ch->otherq, ch->banks, &r);
         }
         ch->refreshed = now;
         ch->sched_wake = 0;
@@ -458,7 +593,7 @@ static void chan_tick(dram_ctrl *c, int chi)
         return;
     int64_t lo = INT64_MAX;
     dqueue *q = &ch->actq;
-    int i = pick(c, ch, q, 0, &lo);
+    int i = c->exhaustive ? pick(c, ch, q, 0, &lo) : pick_counted(c, ch, q, 0, &lo);
     int cmd = -1;
     if (i >= 0) {
         cmd = first_cmd(c, ch, &q->v[i]);
@@ -467,7 +602,7 @@ static void chan_tick(dram_ctrl *c, int chi)
     }
     if (i < 0) {
         q = ch->otherq.n ? &ch->otherq : ch->write_mode ? &ch->writeq : &ch->readq;
-        i = pick(c, ch, q, 1, &lo);
+        i = c->exhaustive || q == &ch->otherq ? pick(c, ch, q, 1, &lo) : pick_counted(c, ch, q, 1, &lo);
         if (i >= 0) {
             cmd = first_cmd(c, ch, &q->v[i]);
             if (earliest(c, ch, &q->v[i], cmd) > now)
@@ -495,13 +630,13 @@ static void chan_tick(dram_ctrl *c, int chi)
     if (cmd != final_cmd) {
         if (cmd == DRAM_ACT) { /* promote to actq (to its back, also from actq itself) */
             dreq moved = *r;
-            q_erase(q, i);
-            q_push(&ch->actq, &moved);
+            q_erase(q, ch->banks, i);
+            q_push(&ch->actq, ch->banks, &moved);
         }
         return;
     }
     dreq done = *r;
-    q_erase(q, i);
+    q_erase(q, ch->banks, i);
     if (done.type == REQ_READ) {
         done.depart = now + c->spec->read_latency;
         pend_push(ch, &done);
@@ -557,6 +692,16 @@ int64_t dram_next_event(const dram_ctrl *c)
 
 void dram_set_exhaustive(dram_ctrl *c, bool on) { c->exhaustive = on; }
 
+/* Jumps k idle cycles, accounting what ticking through them would have. */
+static void skip_by(dram_ctrl *c, int64_t k)
+{
+    for (int i = 0; i < c->nch; i++) {
+        dchan *ch = &c->ch[i];
+        ch->st.queue_occupancy_sum += (uint64_t)k * (uint64_t)(ch->readq.n + ch->writeq.n + ch->pend_n);
+    }
+    c->clk += k;
+}
+
 int64_t dram_skip(dram_ctrl *c)
 {
     if (c->exhaustive)
@@ -565,12 +710,23 @@ int64_t dram_skip(dram_ctrl *c)
     int64_t k = t - 1 - c->clk;
     if (k <= 0)
         return 0;
-    for (int i = 0; i < c->nch; i++) {
-        dchan *ch = &c->ch[i];
-        ch->st.queue_occupancy_sum += (uint64_t)k * (uint64_t)(ch->readq.n + ch->writeq.n + ch->pend_n);
-    }
-    c->clk += k;
+    skip_by(c, k);
     return k;
+}
+
+void dram_advance_to(dram_ctrl *c, int64_t cycle)
+{
+    while (c->clk < cycle) {
+        if (!c->exhaustive) {
+            const int64_t t = dram_next_event(c) - 1;
+            const int64_t stop = t < cycle ? t : cycle;
+            if (stop > c->clk)
+                skip_by(c, stop - c->clk);
+            if (c->clk == cycle)
+                break;
+        }
+        dram_tick(c);
+    }
 }
 
 void dram_chan_stats_get(const dram_ctrl *c, int channel, dram_chan_stats *out)

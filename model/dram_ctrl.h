@@ -26,7 +26,8 @@
  *    enqueue cycle); writes when their WR command issues (latency likewise).
  *  - dram_next_event() is a lower bound on the next cycle at which a tick could
  *    change anything while no request is added; dram_skip() jumps the clock to
- *    just before it (results are bit-identical to ticking through).
+ *    just before it, dram_advance_to() to a given cycle (results are
+ *    bit-identical to ticking through).
  * Deterministic: no randomness, no dependence on host state. */
 #ifndef RTSIM_DRAM_CTRL_H
 #define RTSIM_DRAM_CTRL_H
@@ -83,6 +84,11 @@ int dram_pending(const dram_ctrl *c);
 int64_t dram_next_event(const dram_ctrl *c);
 /* Advances the clock over idle cycles to dram_next_event()-1; returns cycles skipped. */
 int64_t dram_skip(dram_ctrl *c);
+/* Advances the clock to `cycle` (no-op if already there or past): ticks where
+ * something can happen, skips the idle stretches in between; bit-identical to
+ * calling dram_tick() until dram_clock() == cycle. Lets a caller that sleeps
+ * (kernel port) catch up lazily, refreshes included. */
+void dram_advance_to(dram_ctrl *c, int64_t cycle);
 
 /* Reference mode for tests: scan the queues every cycle and never skip; results
  * must be identical to the default (fast) mode. */

@@ -1,0 +1,125 @@
+/* memsys_config.c — schemas of the memory side; see memsys_config.h.
+ * Defaults: the paper's MBVH4 machine (sec. 3: 16 KB node L1 per TRV, 128 KB
+ * node L2, 128 KB primitive cache of two 64 B-line banks, all 4-way, node-
+ * sized lines). MSHR counts, hit latencies and port counts are not in the
+ * paper; the values below are our choices (see the preset comments). */
+#include "model/memsys_config.h"
+
+#include <string.h>
+
+#define CACHE_PARAMS(size, line, banks, mshrs, merge, lat)                                                             \
+    {                                                                                                                  \
+        {"size", RTCFG_INT, size, 64, 1073741824.0, RTCFG_POW2, NULL, "bytes", "capacity"},                           \
+        {"line", RTCFG_INT, line, 16, 4096, RTCFG_POW2, NULL, "bytes", "line size (node caches: node size)"},          \
+        {"ways", RTCFG_INT, "4", 1, 64, 0, NULL, "ways", "associativity (true LRU)"},                                 \
+        {"banks", RTCFG_INT, banks, 1, 16, RTCFG_POW2, NULL, "banks", "banks interleaved by line"},                   \
+        {"ports", RTCFG_INT, "1", 1, 16, 0, NULL, "accesses/cycle", "accesses accepted per cycle"},                   \
+        {"mshrs", RTCFG_INT, mshrs, 1, 256, 0, NULL, "lines", "miss status holding registers (missing lines)"},       \
+        {"mshr_merge", RTCFG_INT, merge, 1, 64, 0, NULL, "requests", "requests that may wait on one MSHR"},           \
+        {"hit_latency", RTCFG_INT, lat, 1, 1000, 0, NULL, "cycles", "cycles from access to data"},                    \
+    }
+
+static const rtcfg_param node_l1_params[] = CACHE_PARAMS("16K", "128", "1", "8", "4", "1");
+static const rtcfg_param node_l2_params[] = CACHE_PARAMS("128K", "128", "1", "32", "8", "4");
+static const rtcfg_param prim_params[] = CACHE_PARAMS("128K", "64", "2", "32", "8", "2");
+
+static int check_caches(const rtcfg *cfg, char *err, size_t errlen);
+
+const rtcfg_schema memsys_schema_node_l1 = {"node_l1", "per-TRV node L1 cache", node_l1_params, 8, check_caches};
+const rtcfg_schema memsys_schema_node_l2 = {"node_l2", "node L2 cache shared by the TRVs", node_l2_params, 8, NULL};
+const rtcfg_schema memsys_schema_prim = {"prim", "primitive (triangle) cache of the IST", prim_params, 8, NULL};
+
+static const rtcfg_param memory_params[] = {
+    {"model", RTCFG_ENUM, "lpddr3", 0, 0, 0, "fixed|lpddr3", "", "main memory: fixed latency+bandwidth or LPDDR3"},
+    {"fixed_latency", RTCFG_INT, "50", 1, 100000, 0, NULL, "cycles", "fixed model: request to data, accel cycles"},
+    {"fixed_bandwidth_gbs", RTCFG_REAL, "12.8", 0, 10000, 0, NULL, "GB/s", "fixed model: peak bandwidth (0 = unlimited)"},
+    {"dram_config", RTCFG_STRING, "lpddr3_1600.ini", 0, 0, 0, NULL, "", "lpddr3: spec file (relative: in model/data)"},
+    {"dram_power", RTCFG_STRING, "lpddr3_1600_idd.ini", 0, 0, 0, NULL, "", "lpddr3: currents for energy (empty: none)"},
+    {"max_outstanding", RTCFG_INT, "256", 1, 65536, 0, NULL, "requests", "requests in flight at the memory"},
+};
+const rtcfg_schema memsys_schema_memory = {"memory", "main memory", memory_params, 6, NULL};
+
+#define FIFO_PARAM(name, desc) {name, RTCFG_INT, "32", 1, 65536, 0, NULL, "entries", desc}
+static const rtcfg_param fifo_params[] = {
+    FIFO_PARAM("mem_l1_miss", "node L1 -> L2 arbiter (per TRV)"),
+    FIFO_PARAM("mem_l1_fill", "L2 arbiter -> node L1 (per TRV)"),
+    FIFO_PARAM("mem_l2_req", "L2 arbiter -> node L2"),
+    FIFO_PARAM("mem_l2_resp", "node L2 -> L2 arbiter"),
+    FIFO_PARAM("mem_l2_miss", "node L2 -> memory arbiter"),
+    FIFO_PARAM("mem_l2_fill", "memory arbiter -> node L2"),
+    FIFO_PARAM("mem_prim_miss", "primitive cache -> memory arbiter"),
+    FIFO_PARAM("mem_prim_fill", "memory arbiter -> primitive cache"),
+    FIFO_PARAM("mem_req", "memory arbiter -> memory"),
+    FIFO_PARAM("mem_resp", "memory -> memory arbiter"),
+    FIFO_PARAM("mem_dram_req", "lpddr3: DRAM front end -> LPDDR3 port"),
+    FIFO_PARAM("mem_dram_resp", "lpddr3: LPDDR3 port -> DRAM front end"),
+    {"mem_latency", RTCFG_INT, "1", 1, 1000, 0, NULL, "cycles", "latency of every memory-side FIFO"},
+};
+const rtcfg_schema memsys_schema_fifo = {"fifo", "memory-side FIFOs", fifo_params, 13, NULL};
+
+int memsys_add_schemas(rtcfg *cfg, char *err, size_t errlen)
+{
+    const rtcfg_schema *all[] = {&memsys_schema_node_l1, &memsys_schema_node_l2, &memsys_schema_prim,
+                                 &memsys_schema_memory, &memsys_schema_fifo};
+    for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
+        if (rtcfg_add_schema(cfg, all[i], err, errlen))
+            return -1;
+    return 0;
+}
+
+void memsys_cache_params(const rtcfg *cfg, const char *section, cache_params *out)
+{
+    char key[64];
+#define GET(field, name) (snprintf(key, sizeof key, "%s.%s", section, name), out->field = (uint32_t)rtcfg_int(cfg, key))
+    GET(size_bytes, "size");
+    GET(line_bytes, "line");
+    GET(ways, "ways");
+    GET(banks, "banks");
+    GET(ports, "ports");
+    GET(mshrs, "mshrs");
+    GET(mshr_merge, "mshr_merge");
+    GET(hit_latency, "hit_latency");
+#undef GET
+}
+
+static int is_pow2(uint64_t v) { return v && !(v & (v - 1)); }
+
+int memsys_check_cache_params(const cache_params *p, const char *s, char *err, size_t errlen)
+{
+    if (!is_pow2(p->size_bytes) || !is_pow2(p->line_bytes) || p->line_bytes < 16)
+        return rtcfg_errorf(err, errlen, "%s.size = %u and %s.line = %u: both must be powers of two (line >= 16)", s,
+                            p->size_bytes, s, p->line_bytes);
+    if (p->ways == 0 || p->banks == 0 || !is_pow2(p->banks) || p->ports == 0 || p->mshrs == 0 || p->mshr_merge == 0 ||
+        p->hit_latency == 0)
+        return rtcfg_errorf(err, errlen,
+                            "[%s]: ways, ports, mshrs, mshr_merge, hit_latency must be >= 1 and banks a power of two "
+                            "(got ways=%u banks=%u ports=%u mshrs=%u mshr_merge=%u hit_latency=%u)",
+                            s, p->ways, p->banks, p->ports, p->mshrs, p->mshr_merge, p->hit_latency);
+    uint64_t per_set = (uint64_t)p->line_bytes * p->ways * p->banks;
+    if (p->size_bytes % per_set || !is_pow2(p->size_bytes / per_set))
+        return rtcfg_errorf(err, errlen,
+                            "[%s]: size/(line*ways*banks) = %u/(%u*%u*%u) must be a whole power of two >= 1 "
+                            "(sets per bank); change %s.ways or %s.size",
+                            s, p->size_bytes, p->line_bytes, p->ways, p->banks, s, s);
+    return 0;
+}
+
+static int check_caches(const rtcfg *cfg, char *err, size_t errlen)
+{
+    static const char *const secs[] = {"node_l1", "node_l2", "prim"};
+    for (int i = 0; i < 3; i++) {
+        char key[32];
+        snprintf(key, sizeof key, "%s.size", secs[i]);
+        if (!rtcfg_has(cfg, key))
+            continue;
+        cache_params p;
+        memsys_cache_params(cfg, secs[i], &p);
+        if (memsys_check_cache_params(&p, secs[i], err, errlen))
+            return -1;
+    }
+    if (rtcfg_has(cfg, "node_l2.line") &&
+        rtcfg_int(cfg, "node_l1.line") > rtcfg_int(cfg, "node_l2.line"))
+        return rtcfg_errorf(err, errlen, "node_l1.line = %lld must be <= node_l2.line = %lld (an L1 fill is one L2 line)",
+                            (long long)rtcfg_int(cfg, "node_l1.line"), (long long)rtcfg_int(cfg, "node_l2.line"));
+    return 0;
+}

@@ -1,0 +1,35 @@
+/* memsys_config.h — the configuration keys of the memory side (caches,
+ * memory-side FIFOs, memory model) as rtcfg schemas, and their conversion to
+ * the parameters of the units. Needs no kernel.
+ *
+ * Sections (defaults = the paper's MBVH4 machine; presets in
+ * model/data/machines/ cite the paper for every number):
+ *   [node_l1]  per-TRV node L1        [node_l2]  node L2 shared by the TRVs
+ *   [prim]     primitive cache of the IST (two banks interleaved by line)
+ *   [memory]   model = fixed | lpddr3, fixed-latency figures, DRAM file/clock
+ *   [fifo]     depths of the memory-side FIFOs (mem_* keys) and their latency
+ * Cross-key checks (rtcfg_finish): sets per bank = size/(line*ways*banks) >= 1,
+ * node_l1.line <= node_l2.line (an L1 fill is one L2 request). */
+#ifndef RTSIM_MODEL_MEMSYS_CONFIG_H
+#define RTSIM_MODEL_MEMSYS_CONFIG_H
+
+#include <stddef.h>
+
+#include "model/cache.h"
+#include "model/config.h"
+
+typedef enum memsys_model { MEMSYS_FIXED = 0, MEMSYS_LPDDR3 = 1 } memsys_model;
+
+extern const rtcfg_schema memsys_schema_node_l1, memsys_schema_node_l2, memsys_schema_prim, memsys_schema_memory,
+    memsys_schema_fifo;
+
+/* Registers all the schemas above. */
+int memsys_add_schemas(rtcfg *cfg, char *err, size_t errlen);
+
+/* Cache parameters of a section ("node_l1", "node_l2", "prim"). */
+void memsys_cache_params(const rtcfg *cfg, const char *section, cache_params *out);
+
+/* Checks a cache's parameters; the message names SECTION.key. */
+int memsys_check_cache_params(const cache_params *p, const char *section, char *err, size_t errlen);
+
+#endif

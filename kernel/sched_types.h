@@ -111,8 +111,19 @@ struct ks_signal {
 struct ks_sim {
     ks_time now;
     uint64_t seq;
-    ks_qentry *heap;
-    size_t n_heap, cap_heap;
+    /* Timed queue: a byte-digit radix heap (see sim.c). q_now holds the
+     * entries at time q_last sorted by key, popped from q_head0; bucket
+     * 256 * L + d holds entries whose time differs from q_last first in
+     * byte L and has digit d there. */
+    struct ks_qbucket {
+        ks_qentry *e;
+        uint32_t n, cap;
+    } *q, q_now;
+    uint32_t q_head0;
+    uint64_t q_nonempty[32];   /* bit per bucket */
+    uint32_t q_words;          /* bit w: q_nonempty[w] != 0 */
+    ks_time q_last;
+    size_t n_heap;             /* entries in all buckets */
     ks_method **run;
     size_t n_run, cap_run;
     ks_dentry *delta, *delta2;

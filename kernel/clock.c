@@ -283,12 +283,10 @@ static inline uint64_t step_one(ks_clock *c, ks_clocked *p, uint64_t cycle)
     return r > 0 ? (uint64_t)r : 0;
 }
 
-static void clock_step(void *user)
+/* One tick at `cycle` (time sim->now); returns the next cycle to tick or
+ * UINT64_MAX. */
+static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
 {
-    ks_clock *c = user;
-    ks_sim *sim = c->sim;
-    uint64_t cycle = c->sched_cycle;
-    c->scheduled = 0;
     c->cur_cycle = cycle;
     c->cur_time = sim->now;
     c->next_time = sim->now + c->period;
@@ -344,8 +342,49 @@ static void clock_step(void *user)
         next = cycle + 1;
     else if (c->n_timers)
         next = c->exhaustive ? cycle + 1 : c->timers[0].cycle;
-    if (next != UINT64_MAX && !c->scheduled)
+    return next;
+}
+
+/* May the clock tick again at time t right away, without a round trip
+ * through the scheduler? Only when the scheduler would do exactly that:
+ * nothing else runnable, no delta or update pending, no timed entry due at
+ * or before t, t within the run's limit, no stop request, and the deadlock
+ * detector would not fire at t. */
+static inline int may_tick_again(const ks_clock *c, ks_sim *sim, ks_time t)
+{
+    if (sim->n_run != 1 || sim->n_delta || sim->n_upd || sim->stop ||
+        sim->n_uninit_from < sim->n_methods || t > sim->until || c->scheduled)
+        return 0;
+    if (sim->dl_cycles && sim->n_clocked &&
+        t - sim->last_progress > (ks_time)sim->dl_cycles * sim->clocks[0]->period)
+        return 0;
+    return ks__queue_clear_until(sim, t);
+}
+
+/* The clock's method: ticks, and as long as the next edge is the next
+ * thing to happen in the whole sim, advances time and ticks again here
+ * (the same steps, deltas and counters as going through the scheduler). */
+static void clock_step(void *user)
+{
+    ks_clock *c = user;
+    ks_sim *sim = c->sim;
+    uint64_t cycle = c->sched_cycle;
+    c->scheduled = 0;
+    for (;;) {
+        uint64_t next = tick(c, sim, cycle);
+        if (next == UINT64_MAX || c->scheduled)
+            return;
+        if (next == cycle + 1 && may_tick_again(c, sim, c->next_time)) {
+            sim->now = c->next_time;
+            sim->deltas++;
+            c->stepper->runs++;
+            sim->activations++;
+            cycle = next;
+            continue;
+        }
         schedule_tick(c, next);
+        return;
+    }
 }
 
 /* Called at the start of each run: a clock whose posedge has method

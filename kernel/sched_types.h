@@ -145,6 +145,7 @@ struct ks_sim {
     uint64_t dl_cycles;
     char *report;
     uint8_t stop, running;
+    ks_time until;             /* time limit of the current run */
     ks_vcd *vcd;
     char error[512];
 };

@@ -259,6 +259,11 @@ static inline ks_qentry *q_min(ks_sim *sim)
     return q_refill(sim);
 }
 
+int ks__queue_clear_until(ks_sim *sim, ks_time t)
+{
+    return sim->n_heap == 0 || q_min(sim)->t > t;
+}
+
 static inline void q_pop(ks_sim *sim)
 {
     sim->n_heap--;
@@ -515,6 +520,7 @@ ks_run_status ks_sim_run(ks_sim *sim, ks_time until)
 {
     sim->stop = 0;
     sim->running = 1;
+    sim->until = until;
     ks_run_status st;
     for (size_t i = 0; i < sim->n_clocks; i++)
         ks__clock_start(sim->clocks[i]);

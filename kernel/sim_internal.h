@@ -37,6 +37,8 @@ char *ks__xstrdup(const char *s);
 
 void ks__set_error(ks_sim *sim, const char *fmt, ...);
 void ks__heap_push(ks_sim *sim, ks_time t, uint64_t key, void *obj);
+/* 1 when no timed entry is due at or before t. */
+int ks__queue_clear_until(ks_sim *sim, ks_time t);
 /* Voids the queued entries pointing at obj (it is being destroyed). */
 void ks__queue_forget(ks_sim *sim, const void *obj);
 void ks__delta_push(ks_sim *sim, void *obj, uint64_t key);

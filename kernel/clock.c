@@ -240,6 +240,7 @@ void ks_clocked_wake_on(ks_clocked *p, ks_event *ev)
     KS_GROW(ev->clocked, ev->n_clocked, ev->cap_clocked);
     ev->clocked[ev->n_clocked++] = p;
     ev->any_waiters = 1;
+    ks__event_refresh(ev);
     KS_GROW(p->wake_events, p->n_wake, p->cap_wake);
     p->wake_events[p->n_wake++] = ev;
 }

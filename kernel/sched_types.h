@@ -210,6 +210,13 @@ static inline void ks__wake_clocked_at(const ks_event *ev, ks_time t)
     }
 }
 
+/* Recomputes ev->only_clocked after its waiters or flags changed. */
+static inline void ks__event_refresh(ks_event *ev)
+{
+    ev->only_clocked =
+        ev->n_clocked == 1 && !ev->has_methods && ev->no_record ? ev->clocked[0] : NULL;
+}
+
 static inline uint64_t ks__next_key(ks_sim *sim, unsigned kind) { return (++sim->seq << 2) | kind; }
 
 /* Is the event's pending notification still ahead? (An unqueued one,
@@ -231,6 +238,14 @@ static inline int ks__pending_live(const ks_event *ev)
 void ks__event_notify_delta_slow(ks_event *ev);
 static inline __attribute__((always_inline)) void ks__event_notify_delta(ks_event *ev)
 {
+    ks_clocked *only = ev->only_clocked;
+    if (only) {
+        if (only->clk->in_tick)
+            *only->woken_word |= only->bit;
+        else
+            ks__clocked_wake_after_now(only);
+        return;
+    }
     if (ev->n_clocked)
         ks__wake_clocked_next(ev);
     if (!ev->has_methods) { /* record only; pending_key 0 voids a queued entry */
@@ -261,6 +276,15 @@ void ks__event_notify_at_methods(ks_event *ev, ks_time when);
 /* Timed notification at when > now. */
 static inline __attribute__((always_inline)) void ks__event_notify_at(ks_event *ev, ks_time when)
 {
+    ks_clocked *only = ev->only_clocked;
+    if (only) {
+        ks_clock *c = only->clk;
+        if (c->in_tick && when == c->next_time)
+            *only->woken_word |= only->bit;
+        else
+            ks__clocked_wake_at_time(only, when);
+        return;
+    }
     if (ev->n_clocked)
         ks__wake_clocked_at(ev, when);
     if (ev->has_methods) {

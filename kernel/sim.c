@@ -337,6 +337,7 @@ static void trigger_dynamic(ks_sim *sim, ks_event *ev)
     ev->dyn_head = NULL;
     ev->has_methods = ev->n_statics != 0;
     ev->any_waiters = ev->has_methods || ev->n_clocked;
+    ks__event_refresh(ev);
     while (m) {
         ks_method *n = m->dyn_next;
         m->dyn_prev = m->dyn_next = NULL;

@@ -263,7 +263,8 @@ void ks_clock_set_exhaustive(ks_clock *c, int on) { c->exhaustive = (uint8_t)(on
 
 /* Steps one process; returns its progress. The awake bit of a process
  * being stepped is set; it is cleared when the process goes to sleep. */
-static inline uint64_t step_one(ks_clock *c, ks_clocked *p, uint64_t cycle)
+static inline __attribute__((always_inline)) uint64_t step_one(ks_clock *c, ks_clocked *p,
+                                                                uint64_t cycle, int exhaustive)
 {
     p->slept = 0;
     int r = p->step(p->user, cycle);
@@ -271,7 +272,7 @@ static inline uint64_t step_one(ks_clock *c, ks_clocked *p, uint64_t cycle)
     if (r > 0) {
         p->progress += (uint64_t)r;
         if (!p->slept) {
-            if (c->exhaustive)
+            if (exhaustive)
                 c->awake[p->idx >> 6] |= p->bit;
             return (uint64_t)r;
         }
@@ -310,7 +311,7 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
     uint64_t progress = 0, steps = 0;
     if (c->exhaustive) {
         for (uint32_t i = 0; i < c->n_procs; i++)
-            progress += step_one(c, c->procs[i], cycle);
+            progress += step_one(c, c->procs[i], cycle, 1);
         steps = c->n_procs;
     } else {
         ks_clocked **procs = c->procs;
@@ -319,7 +320,7 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
             while (bits) {
                 uint32_t i = (w << 6) | (uint32_t)__builtin_ctzll(bits);
                 bits &= bits - 1;
-                progress += step_one(c, procs[i], cycle);
+                progress += step_one(c, procs[i], cycle, 0);
                 steps++;
             }
         }

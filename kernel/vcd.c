@@ -242,6 +242,12 @@ static int var_cmp(const void *pa, const void *pb)
 static void write_header(ks_vcd *d)
 {
     d->header_done = 1;
+    /* the declarations are final: room for every variable in the dirty list
+     * (each is in it at most once), so ks_vcd_set need not check */
+    if (d->cap_dirty < d->n_vars) {
+        d->cap_dirty = d->n_vars;
+        d->dirty = ks__xrealloc(d->dirty, d->cap_dirty * sizeof *d->dirty);
+    }
     put_str(d, "$version rtsim kernel VCD writer $end\n$timescale ");
     put_str(d, d->ts_str);
     put_str(d, " $end\n");
@@ -554,6 +560,7 @@ ks_vcd *ks_vcd_open(ks_sim *sim, const char *path, const char *timescale, ks_tim
     ks_vcd *d = ks__xcalloc(1, sizeof *d);
     d->sim = sim;
     d->now = &sim->now;
+    d->cur_t = -1; /* no time stamp yet: every set goes through new_time */
     d->path = ks__xstrdup(path);
     d->direct = strncmp(path, "/dev/", 5) == 0;
     size_t pl = strlen(path);

@@ -224,18 +224,30 @@ static __attribute__((noinline)) ks_qentry *q_refill(ks_sim *sim)
     if (!sim->q_nonempty[w])
         sim->q_words &= ~((uint32_t)1 << w);
     struct ks_qbucket *q = &sim->q[b];
-    ks_time m = q->e[0].t;
-    for (uint32_t i = 1; i < q->n; i++)
-        if (q->e[i].t < m)
-            m = q->e[i].t;
+    ks_time m = q->e[0].t, mx = m;
+    for (uint32_t i = 1; i < q->n; i++) {
+        ks_time t = q->e[i].t;
+        m = t < m ? t : m;
+        mx = t > mx ? t : mx;
+    }
     sim->q_last = m;
     uint32_t n = q->n;
     q->n = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        if (q->e[i].t == m)
-            q_append_to(q0, q->e[i]);
-        else
-            q_append_far(sim, q->e[i]);
+    if (m == mx) { /* one time (always so at level 0): the bucket becomes q_now */
+        ks_qentry *e = q0->e;
+        uint32_t cap = q0->cap;
+        q0->e = q->e;
+        q0->cap = q->cap;
+        q0->n = n;
+        q->e = e;
+        q->cap = cap;
+    } else {
+        for (uint32_t i = 0; i < n; i++) {
+            if (q->e[i].t == m)
+                q_append_to(q0, q->e[i]);
+            else
+                q_append_far(sim, q->e[i]);
+        }
     }
     /* entries redistributed into q_now in key order */
     ks_qentry *e = q0->e;

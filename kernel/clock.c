@@ -6,7 +6,10 @@
  * it), plus a min-heap of timers (cycle, process) for wake-ups further ahead.
  * The clock itself is one entry in the sim's timed queue, at the next cycle
  * where any process is due; when none is, the clock is not scheduled at all,
- * so idle cycles cost nothing. */
+ * so idle cycles cost nothing. When its next edge is also the next thing to
+ * happen in the whole sim (nothing else runnable, pending or due before it),
+ * the clock advances time and ticks again in place, doing what the
+ * scheduler's round trip would (time, delta count, activation counters). */
 #include <stdlib.h>
 #include <string.h>
 

@@ -81,26 +81,20 @@ typedef struct stage {
     uint64_t moved;
 } stage;
 
-/* In place: the item moves from the input slot to the output slot with one
- * copy (ks_fifo_peek / ks_fifo_write_slot / ks_fifo_commit / ks_fifo_pop);
- * sc_fifo has no such interface, so the SystemC twin copies in and out. */
+/* Like the SystemC twin's sc_fifo nb_read / nb_write: the item is copied
+ * out of the input FIFO and into the output FIFO. */
 static int stage_step(void *u, uint64_t cycle)
 {
     (void)cycle;
     stage *s = u;
-    const item *in = ks_fifo_peek(s->in);
-    if (!in)
+    if (!ks_fifo_can_read(s->in) || !ks_fifo_can_write(s->out))
         return 0;
-    item *out = ks_fifo_write_slot(s->out);
-    if (!out)
-        return 0;
-    *out = *in;
-    out->hops++;
-    out->payload[0] += out->hops;
-    uint32_t id = out->id;
-    ks_fifo_commit(s->out);
-    ks_fifo_pop(s->in);
-    ks_vcd_set(s->id_var, id);
+    item it;
+    KS_FIFO_READ(s->in, &it);
+    it.hops++;
+    it.payload[0] += it.hops;
+    KS_FIFO_WRITE(s->out, &it);
+    ks_vcd_set(s->id_var, it.id);
     s->moved++;
     return 1;
 }

@@ -34,7 +34,7 @@ static void usage(FILE *out)
             "             [--rays primary|diffuse] [--res WxH] [--bounces N] [--seed N]\n"
             "             [--set KEY=VALUE]... [--json FILE] [--vcd FILE] [--vcd-window A:B]\n"
             "             [--vcd-filter GLOB] [--heatmap FILE] [--autosize-fifos OUT.ini]\n"
-            "             [--help-module NAME] [--quiet] [--help] [--version]\n"
+            "             [--help-module NAME] [--quiet] [--exhaustive] [--help] [--version]\n"
             "SCENE: a built-in scene (interior, hairball, city, forest; default interior) or an\n"
             "       .obj/.ply(.gz)/.scene file. Defaults: 1280x720, mbvh4, primary rays,\n"
             "       4 bounces, seed 1.\n"
@@ -45,7 +45,8 @@ static void usage(FILE *out)
             "--heatmap FILE      simulated cycles per pixel (.png or .exr)\n"
             "--autosize-fifos F  run, then write the machine with every FIFO shrunk to the\n"
             "                    first power of two above its maximum occupancy (paper sec. 3)\n"
-            "--help-module NAME  parameters, ports and statistics of a module (trv, ist, sched,\n"
+            "--exhaustive        step every unit every cycle (no idle skipping; reference mode)\n"
+"--help-module NAME  parameters, ports and statistics of a module (trv, ist, sched,\n"
             "                    cache, arbiter, fixed_mem, dram, ...) and the keys of its\n"
             "                    configuration section (node_l1, node_l2, prim, memory, fifo, machine)\n");
 }
@@ -195,12 +196,12 @@ int main(int argc, char **argv)
     const char *scene_name = "interior", *view_name = NULL, *views_file = NULL, *machine = "mbvh4";
     const char *json = NULL, *vcd = NULL, *vcd_filter = NULL, *heatmap = NULL, *autosize = NULL;
     const char *res = "1280x720";
-    bool diffuse = false, quiet = false;
+    bool diffuse = false, quiet = false, exhaustive = false;
     uint64_t bounces = 4, seed = 1, vcd_a = 0, vcd_b = 0;
     const char **sets = calloc((size_t)argc, sizeof *sets);
     int nsets = 0;
     enum { O_VIEW = 256, O_VIEWS, O_MACHINE, O_RAYS, O_RES, O_BOUNCES, O_SEED, O_SET, O_JSON, O_VCD, O_VCDW, O_VCDF,
-           O_HEAT, O_AUTO, O_HELPMOD, O_QUIET, O_HELP, O_VERSION };
+           O_HEAT, O_AUTO, O_HELPMOD, O_QUIET, O_EXHAUSTIVE, O_HELP, O_VERSION };
     static const struct option opts[] = {
         {"view", required_argument, 0, O_VIEW},        {"views", required_argument, 0, O_VIEWS},
         {"machine", required_argument, 0, O_MACHINE},  {"rays", required_argument, 0, O_RAYS},
@@ -209,7 +210,7 @@ int main(int argc, char **argv)
         {"json", required_argument, 0, O_JSON},        {"vcd", required_argument, 0, O_VCD},
         {"vcd-window", required_argument, 0, O_VCDW},  {"vcd-filter", required_argument, 0, O_VCDF},
         {"heatmap", required_argument, 0, O_HEAT},     {"autosize-fifos", required_argument, 0, O_AUTO},
-        {"help-module", required_argument, 0, O_HELPMOD}, {"quiet", no_argument, 0, O_QUIET},
+        {"help-module", required_argument, 0, O_HELPMOD}, {"quiet", no_argument, 0, O_QUIET}, {"exhaustive", no_argument, 0, O_EXHAUSTIVE},
         {"help", no_argument, 0, O_HELP},              {"version", no_argument, 0, O_VERSION},
         {0, 0, 0, 0}};
     if (!sets)
@@ -257,6 +258,7 @@ int main(int argc, char **argv)
         case O_AUTO: autosize = optarg; break;
         case O_HELPMOD: free(sets); return help_module(optarg);
         case O_QUIET: quiet = true; break;
+        case O_EXHAUSTIVE: exhaustive = true; break;
         case O_HELP: usage(stdout); free(sets); return 0;
         case O_VERSION: printf("rtsim %s (git %s)\n", RTSIM_VERSION, RTSIM_GIT); free(sets); return 0;
         case '?':
@@ -323,6 +325,7 @@ int main(int argc, char **argv)
     o.vcd_begin_cycle = vcd_a;
     o.vcd_end_cycle = vcd_b;
     o.vcd_filter = vcd_filter;
+    o.exhaustive = exhaustive;
     top = accel_top_create(cfg, &aimg, &src, &o, err, sizeof err);
     if (!top)
         goto fail;

@@ -6,7 +6,10 @@
  * it), plus a min-heap of timers (cycle, process) for wake-ups further ahead.
  * The clock itself is one entry in the sim's timed queue, at the next cycle
  * where any process is due; when none is, the clock is not scheduled at all,
- * so idle cycles cost nothing. */
+ * so idle cycles cost nothing. When its next edge is also the next thing to
+ * happen in the whole sim (nothing else runnable, pending or due before it),
+ * the clock advances time and ticks again in place, doing what the
+ * scheduler's round trip would (time, delta count, activation counters). */
 #include <stdlib.h>
 #include <string.h>
 
@@ -240,6 +243,7 @@ void ks_clocked_wake_on(ks_clocked *p, ks_event *ev)
     KS_GROW(ev->clocked, ev->n_clocked, ev->cap_clocked);
     ev->clocked[ev->n_clocked++] = p;
     ev->any_waiters = 1;
+    ks__event_refresh(ev);
     KS_GROW(p->wake_events, p->n_wake, p->cap_wake);
     p->wake_events[p->n_wake++] = ev;
 }
@@ -262,7 +266,8 @@ void ks_clock_set_exhaustive(ks_clock *c, int on) { c->exhaustive = (uint8_t)(on
 
 /* Steps one process; returns its progress. The awake bit of a process
  * being stepped is set; it is cleared when the process goes to sleep. */
-static inline uint64_t step_one(ks_clock *c, ks_clocked *p, uint64_t cycle)
+static inline __attribute__((always_inline)) uint64_t step_one(ks_clock *c, ks_clocked *p,
+                                                                uint64_t cycle, int exhaustive)
 {
     p->slept = 0;
     int r = p->step(p->user, cycle);
@@ -270,7 +275,7 @@ static inline uint64_t step_one(ks_clock *c, ks_clocked *p, uint64_t cycle)
     if (r > 0) {
         p->progress += (uint64_t)r;
         if (!p->slept) {
-            if (c->exhaustive)
+            if (exhaustive)
                 c->awake[p->idx >> 6] |= p->bit;
             return (uint64_t)r;
         }
@@ -283,12 +288,10 @@ static inline uint64_t step_one(ks_clock *c, ks_clocked *p, uint64_t cycle)
     return r > 0 ? (uint64_t)r : 0;
 }
 
-static void clock_step(void *user)
+/* One tick at `cycle` (time sim->now); returns the next cycle to tick or
+ * UINT64_MAX. */
+static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
 {
-    ks_clock *c = user;
-    ks_sim *sim = c->sim;
-    uint64_t cycle = c->sched_cycle;
-    c->scheduled = 0;
     c->cur_cycle = cycle;
     c->cur_time = sim->now;
     c->next_time = sim->now + c->period;
@@ -311,7 +314,7 @@ static void clock_step(void *user)
     uint64_t progress = 0, steps = 0;
     if (c->exhaustive) {
         for (uint32_t i = 0; i < c->n_procs; i++)
-            progress += step_one(c, c->procs[i], cycle);
+            progress += step_one(c, c->procs[i], cycle, 1);
         steps = c->n_procs;
     } else {
         ks_clocked **procs = c->procs;
@@ -320,7 +323,7 @@ static void clock_step(void *user)
             while (bits) {
                 uint32_t i = (w << 6) | (uint32_t)__builtin_ctzll(bits);
                 bits &= bits - 1;
-                progress += step_one(c, procs[i], cycle);
+                progress += step_one(c, procs[i], cycle, 0);
                 steps++;
             }
         }
@@ -344,8 +347,49 @@ static void clock_step(void *user)
         next = cycle + 1;
     else if (c->n_timers)
         next = c->exhaustive ? cycle + 1 : c->timers[0].cycle;
-    if (next != UINT64_MAX && !c->scheduled)
+    return next;
+}
+
+/* May the clock tick again at time t right away, without a round trip
+ * through the scheduler? Only when the scheduler would do exactly that:
+ * nothing else runnable, no delta or update pending, no timed entry due at
+ * or before t, t within the run's limit, no stop request, and the deadlock
+ * detector would not fire at t. */
+static inline int may_tick_again(const ks_clock *c, ks_sim *sim, ks_time t)
+{
+    if (sim->n_run != 1 || sim->n_delta || sim->n_upd || sim->stop ||
+        sim->n_uninit_from < sim->n_methods || t > sim->until || c->scheduled)
+        return 0;
+    if (sim->dl_cycles && sim->n_clocked &&
+        t - sim->last_progress > (ks_time)sim->dl_cycles * sim->clocks[0]->period)
+        return 0;
+    return ks__queue_clear_until(sim, t);
+}
+
+/* The clock's method: ticks, and as long as the next edge is the next
+ * thing to happen in the whole sim, advances time and ticks again here
+ * (the same steps, deltas and counters as going through the scheduler). */
+static void clock_step(void *user)
+{
+    ks_clock *c = user;
+    ks_sim *sim = c->sim;
+    uint64_t cycle = c->sched_cycle;
+    c->scheduled = 0;
+    for (;;) {
+        uint64_t next = tick(c, sim, cycle);
+        if (next == UINT64_MAX || c->scheduled)
+            return;
+        if (next == cycle + 1 && may_tick_again(c, sim, c->next_time)) {
+            sim->now = c->next_time;
+            sim->deltas++;
+            c->stepper->runs++;
+            sim->activations++;
+            cycle = next;
+            continue;
+        }
         schedule_tick(c, next);
+        return;
+    }
 }
 
 /* Called at the start of each run: a clock whose posedge has method

@@ -18,11 +18,8 @@ void ks_event_destroy(ks_event *ev)
     ks_sim *sim = ev->sim;
     /* Drop queued entries that point at this event (rare: only when it is
      * destroyed with a notification pending). */
-    if (ev->pending == KS_PEND_TIMED) {
-        for (size_t i = 0; i < sim->n_heap; i++)
-            if (sim->heap[i].obj == ev)
-                sim->heap[i].obj = NULL, sim->heap[i].key = (sim->heap[i].key & ~(uint64_t)3) | KS_K_EVENT;
-    }
+    if (ev->pending == KS_PEND_TIMED)
+        ks__queue_forget(sim, ev);
     if (ev->pending == KS_PEND_DELTA) {
         for (size_t i = 0; i < sim->n_delta; i++)
             if (sim->delta[i].obj == ev)

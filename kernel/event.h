@@ -51,6 +51,9 @@ typedef struct ks_event {
     void (*on_wait)(struct ks_event *ev, void *ctx);
     void *on_wait_ctx;
     uint64_t notify_count;          /* times it triggered (statistics, tests) */
+    /* The one clocked waiter when that is all a notification has to do
+     * (one clocked waiter, no method waiters, nothing to record). */
+    struct ks_clocked *only_clocked;
 } ks_event;
 
 void ks_event_init(ks_event *ev, ks_sim *sim, const char *name);

@@ -69,6 +69,8 @@ ks_fifo *ks_fifo_create(ks_sim *sim, const char *name, size_t elem_size, uint32_
     ks_event_init(&f->ev_freed, sim, ev);
     f->created = sim->now;
     f->ev_written.no_record = f->ev_freed.no_record = 1;
+    ks__event_refresh(&f->ev_written);
+    ks__event_refresh(&f->ev_freed);
     f->ev_written.on_wait = written_on_wait;
     f->ev_written.on_wait_ctx = f;
     f->ev_freed.on_wait = freed_on_wait;

@@ -49,6 +49,7 @@ void ks_method_sensitive(ks_method *m, ks_event *ev)
     KS_GROW(ev->statics, ev->n_statics, ev->cap_statics);
     ev->statics[ev->n_statics++] = m;
     ev->has_methods = ev->any_waiters = 1;
+    ks__event_refresh(ev);
     ks__event_queue_pending(ev);
     KS_GROW(m->sens, m->n_sens, m->cap_sens);
     m->sens[m->n_sens++] = ev;
@@ -77,6 +78,7 @@ static void dyn_unlink(ks_method *m)
         m->dyn_next->dyn_prev = m->dyn_prev;
     ev->has_methods = ev->n_statics || ev->dyn_head;
     ev->any_waiters = ev->has_methods || ev->n_clocked;
+    ks__event_refresh(ev);
     m->dyn_prev = m->dyn_next = NULL;
     m->dyn_event = NULL;
 }
@@ -98,6 +100,7 @@ static void dyn_link(ks_method *m, ks_event *ev)
         ev->dyn_head->dyn_prev = m;
     ev->dyn_head = m;
     ev->has_methods = ev->any_waiters = 1;
+    ks__event_refresh(ev);
     ks__event_queue_pending(ev);
 }
 

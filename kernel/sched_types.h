@@ -111,8 +111,19 @@ struct ks_signal {
 struct ks_sim {
     ks_time now;
     uint64_t seq;
-    ks_qentry *heap;
-    size_t n_heap, cap_heap;
+    /* Timed queue: a byte-digit radix heap (see sim.c). q_now holds the
+     * entries at time q_last sorted by key, popped from q_head0; bucket
+     * 256 * L + d holds entries whose time differs from q_last first in
+     * byte L and has digit d there. */
+    struct ks_qbucket {
+        ks_qentry *e;
+        uint32_t n, cap;
+    } *q, q_now;
+    uint32_t q_head0;
+    uint64_t q_nonempty[32];   /* bit per bucket */
+    uint32_t q_words;          /* bit w: q_nonempty[w] != 0 */
+    ks_time q_last;
+    size_t n_heap;             /* entries in all buckets */
     ks_method **run;
     size_t n_run, cap_run;
     ks_dentry *delta, *delta2;
@@ -134,6 +145,7 @@ struct ks_sim {
     uint64_t dl_cycles;
     char *report;
     uint8_t stop, running;
+    ks_time until;             /* time limit of the current run */
     ks_vcd *vcd;
     char error[512];
 };
@@ -198,6 +210,13 @@ static inline void ks__wake_clocked_at(const ks_event *ev, ks_time t)
     }
 }
 
+/* Recomputes ev->only_clocked after its waiters or flags changed. */
+static inline void ks__event_refresh(ks_event *ev)
+{
+    ev->only_clocked =
+        ev->n_clocked == 1 && !ev->has_methods && ev->no_record ? ev->clocked[0] : NULL;
+}
+
 static inline uint64_t ks__next_key(ks_sim *sim, unsigned kind) { return (++sim->seq << 2) | kind; }
 
 /* Is the event's pending notification still ahead? (An unqueued one,
@@ -219,6 +238,14 @@ static inline int ks__pending_live(const ks_event *ev)
 void ks__event_notify_delta_slow(ks_event *ev);
 static inline __attribute__((always_inline)) void ks__event_notify_delta(ks_event *ev)
 {
+    ks_clocked *only = ev->only_clocked;
+    if (only) {
+        if (only->clk->in_tick)
+            *only->woken_word |= only->bit;
+        else
+            ks__clocked_wake_after_now(only);
+        return;
+    }
     if (ev->n_clocked)
         ks__wake_clocked_next(ev);
     if (!ev->has_methods) { /* record only; pending_key 0 voids a queued entry */
@@ -249,6 +276,15 @@ void ks__event_notify_at_methods(ks_event *ev, ks_time when);
 /* Timed notification at when > now. */
 static inline __attribute__((always_inline)) void ks__event_notify_at(ks_event *ev, ks_time when)
 {
+    ks_clocked *only = ev->only_clocked;
+    if (only) {
+        ks_clock *c = only->clk;
+        if (c->in_tick && when == c->next_time)
+            *only->woken_word |= only->bit;
+        else
+            ks__clocked_wake_at_time(only, when);
+        return;
+    }
     if (ev->n_clocked)
         ks__wake_clocked_at(ev, when);
     if (ev->has_methods) {

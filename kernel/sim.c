@@ -57,10 +57,13 @@ void ks__set_error(ks_sim *sim, const char *fmt, ...)
 
 const char *ks_sim_error(const ks_sim *sim) { return sim->error; }
 
+enum { KS_Q_BUCKETS = 8 * 256 }; /* timed-queue buckets: 8 byte digits */
+
 ks_sim *ks_sim_create(void)
 {
     ks_sim *sim = ks__xcalloc(1, sizeof *sim);
     sim->dl_cycles = 100000;
+    sim->q = ks__xcalloc(KS_Q_BUCKETS, sizeof *sim->q);
     sim->report = ks__xstrdup("");
     return sim;
 }
@@ -83,7 +86,10 @@ void ks_sim_destroy(ks_sim *sim)
     free(sim->signals);
     free(sim->clocks);
     free(sim->methods);
-    free(sim->heap);
+    for (unsigned b = 0; b < KS_Q_BUCKETS; b++)
+        free(sim->q[b].e);
+    free(sim->q);
+    free(sim->q_now.e);
     free(sim->run);
     free(sim->delta);
     free(sim->delta2);
@@ -120,63 +126,175 @@ const char *ks_run_status_name(ks_run_status st)
 }
 
 
-/* ---- timed queue: 4-ary min-heap on (t, key) ----
- * A 4-ary heap halves the depth of a binary one (5 levels for 1000 entries)
- * and its four children share a cache line or two; (t, key) is compared as
- * one 128-bit number (t >= 0). */
+/* ---- timed queue: radix heap on time, FIFO by key within a time ----
+ * Times popped never decrease, so a radix heap applies (Ahuja, Mehlhorn,
+ * Orlin and Tarjan 1990), here with byte digits: an entry lives in q_now
+ * when its time equals q_last (the last minimum), otherwise in bucket
+ * (L, d) where byte L is the highest byte in which its time differs from
+ * q_last and d is its byte there; buckets in (L, d) order are in time
+ * order. A push is an append; when q_now runs empty, the lowest non-empty
+ * bucket (a bitmap scan) is searched for its minimum time, which becomes
+ * q_last, and its entries are redistributed to lower buckets (each entry
+ * moves at most 8 times; for delays below 2^24 ps, two or three). Keys are
+ * drawn from a counter at push time, so entries pushed at time q_last
+ * arrive in key order; entries redistributed into q_now are sorted by key
+ * first. The result is the exact (time, key) order of a heap at a fraction
+ * of its cost. A push before q_last (possible after a run stopped at its
+ * time limit looked beyond it, or on an empty queue) re-buckets everything
+ * around the new minimum. */
 
-typedef unsigned __int128 ks_u128;
-static inline ks_u128 qk(const ks_qentry *e) { return ((ks_u128)(uint64_t)e->t << 64) | e->key; }
+
+static inline void q_append_to(struct ks_qbucket *q, ks_qentry e)
+{
+    if (q->n == q->cap) {
+        q->cap = q->cap ? q->cap * 2 : 16;
+        q->e = ks__xrealloc(q->e, (size_t)q->cap * sizeof *q->e);
+    }
+    q->e[q->n++] = e;
+}
+
+/* Appends e (e.t > q_last) to its bucket. */
+static inline void q_append_far(ks_sim *sim, ks_qentry e)
+{
+    uint64_t x = (uint64_t)e.t ^ (uint64_t)sim->q_last;
+    unsigned level = (63u - (unsigned)__builtin_clzll(x)) >> 3;
+    unsigned b = (level << 8) | (unsigned)(((uint64_t)e.t >> (level * 8)) & 255);
+    q_append_to(&sim->q[b], e);
+    sim->q_nonempty[b >> 6] |= (uint64_t)1 << (b & 63);
+    sim->q_words |= (uint32_t)1 << (b >> 6);
+}
+
+static void q_rebucket(ks_sim *sim, ks_time new_last)
+{
+    /* Rare: move every entry, q_now's first (they keep their key order:
+     * their time, the old q_last, is above new_last) */
+    ks_qentry *all = ks__xmalloc((sim->n_heap ? sim->n_heap : 1) * sizeof *all);
+    size_t n = 0;
+    for (uint32_t i = sim->q_head0; i < sim->q_now.n; i++)
+        all[n++] = sim->q_now.e[i];
+    sim->q_now.n = sim->q_head0 = 0;
+    sim->q_words = 0;
+    for (unsigned w = 0; w < 32; w++) {
+        while (sim->q_nonempty[w]) {
+            unsigned b = (w << 6) | (unsigned)__builtin_ctzll(sim->q_nonempty[w]);
+            sim->q_nonempty[w] &= sim->q_nonempty[w] - 1;
+            struct ks_qbucket *q = &sim->q[b];
+            for (uint32_t i = 0; i < q->n; i++)
+                all[n++] = q->e[i];
+            q->n = 0;
+        }
+    }
+    sim->q_last = new_last;
+    for (size_t i = 0; i < n; i++)
+        q_append_far(sim, all[i]);
+    free(all);
+}
 
 void ks__heap_push(ks_sim *sim, ks_time t, uint64_t key, void *obj)
 {
-    if (sim->n_heap == sim->cap_heap) {
-        sim->cap_heap = sim->cap_heap ? sim->cap_heap * 2 : 64;
-        sim->heap = ks__xrealloc(sim->heap, sim->cap_heap * sizeof *sim->heap);
-    }
     ks_qentry e = {t, key, obj};
-    ks_u128 k = qk(&e);
-    ks_qentry *h = sim->heap;
-    size_t i = sim->n_heap++;
-    while (i > 0) {
-        size_t p = (i - 1) >> 2;
-        if (k >= qk(&h[p]))
-            break;
-        h[i] = h[p];
-        i = p;
+    sim->n_heap++;
+    if (t == sim->q_last) {
+        q_append_to(&sim->q_now, e);
+        return;
     }
-    h[i] = e;
+    if (sim->n_heap == 1) { /* empty: e is the minimum */
+        sim->q_now.n = sim->q_head0 = 0;
+        sim->q_last = t;
+        q_append_to(&sim->q_now, e);
+        return;
+    }
+    if (t < sim->q_last) {
+        q_rebucket(sim, t);
+        q_append_to(&sim->q_now, e);
+        return;
+    }
+    q_append_far(sim, e);
 }
 
-static void heap_pop(ks_sim *sim)
+/* Refills the empty q_now from the lowest non-empty bucket. */
+static __attribute__((noinline)) ks_qentry *q_refill(ks_sim *sim)
 {
-    ks_qentry *h = sim->heap;
-    size_t n = --sim->n_heap;
-    if (n == 0)
-        return;
-    ks_qentry last = h[n];
-    ks_u128 lk = qk(&last);
-    size_t i = 0;
-    for (;;) {
-        size_t c = 4 * i + 1;
-        if (c >= n)
-            break;
-        size_t m = c;
-        ks_u128 mk = qk(&h[c]);
-        size_t e = c + 4 < n ? c + 4 : n;
-        for (size_t j = c + 1; j < e; j++) {
-            ks_u128 jk = qk(&h[j]);
-            if (jk < mk) {
-                mk = jk;
-                m = j;
-            }
-        }
-        if (lk <= mk)
-            break;
-        h[i] = h[m];
-        i = m;
+    struct ks_qbucket *q0 = &sim->q_now;
+    q0->n = 0;
+    sim->q_head0 = 0;
+    unsigned w = (unsigned)__builtin_ctz(sim->q_words);
+    unsigned b = (w << 6) | (unsigned)__builtin_ctzll(sim->q_nonempty[w]);
+    sim->q_nonempty[w] &= sim->q_nonempty[w] - 1;
+    if (!sim->q_nonempty[w])
+        sim->q_words &= ~((uint32_t)1 << w);
+    struct ks_qbucket *q = &sim->q[b];
+    ks_time m = q->e[0].t, mx = m;
+    for (uint32_t i = 1; i < q->n; i++) {
+        ks_time t = q->e[i].t;
+        m = t < m ? t : m;
+        mx = t > mx ? t : mx;
     }
-    h[i] = last;
+    sim->q_last = m;
+    uint32_t n = q->n;
+    q->n = 0;
+    if (m == mx) { /* one time (always so at level 0): the bucket becomes q_now */
+        ks_qentry *e = q0->e;
+        uint32_t cap = q0->cap;
+        q0->e = q->e;
+        q0->cap = q->cap;
+        q0->n = n;
+        q->e = e;
+        q->cap = cap;
+    } else {
+        for (uint32_t i = 0; i < n; i++) {
+            if (q->e[i].t == m)
+                q_append_to(q0, q->e[i]);
+            else
+                q_append_far(sim, q->e[i]);
+        }
+    }
+    /* entries redistributed into q_now in key order */
+    ks_qentry *e = q0->e;
+    for (uint32_t i = 1; i < q0->n; i++) {
+        ks_qentry x = e[i];
+        uint32_t j = i;
+        while (j > 0 && e[j - 1].key > x.key) {
+            e[j] = e[j - 1];
+            j--;
+        }
+        e[j] = x;
+    }
+    return &q0->e[0];
+}
+
+/* The minimum entry (the queue must not be empty). */
+static inline ks_qentry *q_min(ks_sim *sim)
+{
+    if (sim->q_head0 < sim->q_now.n)
+        return &sim->q_now.e[sim->q_head0];
+    return q_refill(sim);
+}
+
+int ks__queue_clear_until(ks_sim *sim, ks_time t)
+{
+    return sim->n_heap == 0 || q_min(sim)->t > t;
+}
+
+static inline void q_pop(ks_sim *sim)
+{
+    sim->n_heap--;
+    sim->q_head0++;
+}
+
+static void q_forget_in(struct ks_qbucket *q, uint32_t from, const void *obj)
+{
+    for (uint32_t i = from; i < q->n; i++)
+        if (q->e[i].obj == obj)
+            q->e[i].obj = NULL, q->e[i].key = (q->e[i].key & ~(uint64_t)3) | KS_K_EVENT;
+}
+
+void ks__queue_forget(ks_sim *sim, const void *obj)
+{
+    q_forget_in(&sim->q_now, sim->q_head0, obj);
+    for (unsigned b = 0; b < KS_Q_BUCKETS; b++)
+        if (sim->q_nonempty[b >> 6] >> (b & 63) & 1)
+            q_forget_in(&sim->q[b], 0, obj);
 }
 
 /* ---- delta notifications and runnable queue ---- */
@@ -231,6 +349,7 @@ static void trigger_dynamic(ks_sim *sim, ks_event *ev)
     ev->dyn_head = NULL;
     ev->has_methods = ev->n_statics != 0;
     ev->any_waiters = ev->has_methods || ev->n_clocked;
+    ks__event_refresh(ev);
     while (m) {
         ks_method *n = m->dyn_next;
         m->dyn_prev = m->dyn_next = NULL;
@@ -414,6 +533,7 @@ ks_run_status ks_sim_run(ks_sim *sim, ks_time until)
 {
     sim->stop = 0;
     sim->running = 1;
+    sim->until = until;
     ks_run_status st;
     for (size_t i = 0; i < sim->n_clocks; i++)
         ks__clock_start(sim->clocks[i]);
@@ -473,7 +593,7 @@ ks_run_status ks_sim_run(ks_sim *sim, ks_time until)
             }
             break;
         }
-        ks_time t = sim->heap[0].t;
+        ks_time t = q_min(sim)->t;
         if (t > until) {
             sim->now = until;
             st = KS_RUN_TIME_LIMIT;
@@ -493,10 +613,10 @@ ks_run_status ks_sim_run(ks_sim *sim, ks_time until)
         }
         sim->now = t;
         do {
-            ks_qentry e = sim->heap[0];
-            heap_pop(sim);
+            ks_qentry e = *q_min(sim);
+            q_pop(sim);
             fire_entry(e.obj, e.key);
-        } while (sim->n_heap && sim->heap[0].t == t);
+        } while (sim->n_heap && q_min(sim)->t == t);
         sim->deltas++;
     }
     sim->running = 0;

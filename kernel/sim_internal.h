@@ -1,7 +1,7 @@
 /* sim_internal.h — private structures shared by the kernel's .c files.
  *
  * Not part of the API: model code must include only the public headers.
- * Scheduling data: a 4-ary min-heap of timed entries ordered by (time, key)
+ * Scheduling data: a radix heap of timed entries popped in (time, key) order
  * where key = sequence number << 2 | kind, so equal times fire in notification
  * order; entries are invalidated lazily (the owner stores the key of its one
  * valid entry). Delta notifications go to a list of (object, key) entries
@@ -37,6 +37,10 @@ char *ks__xstrdup(const char *s);
 
 void ks__set_error(ks_sim *sim, const char *fmt, ...);
 void ks__heap_push(ks_sim *sim, ks_time t, uint64_t key, void *obj);
+/* 1 when no timed entry is due at or before t. */
+int ks__queue_clear_until(ks_sim *sim, ks_time t);
+/* Voids the queued entries pointing at obj (it is being destroyed). */
+void ks__queue_forget(ks_sim *sim, const void *obj);
 void ks__delta_push(ks_sim *sim, void *obj, uint64_t key);
 void ks__event_trigger(ks_event *ev);
 /* Queues a pending notification recorded while the event had no method

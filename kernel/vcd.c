@@ -21,6 +21,8 @@ struct ks_vcd_var {
     uint8_t idlen;
     uint64_t emitted;          /* value as of the last time written out */
     char id[8];                /* padded: copied as 8 bytes */
+    char tail[8];              /* what follows the value: " id\n" (int), "id\n" (bit) */
+    uint8_t tail_len;
     unsigned width;
     const char *const *names;
     unsigned n_names;
@@ -55,6 +57,9 @@ struct ks_vcd {
 };
 
 static char bin8[257][8]; /* one spare row: top-byte copies read past a row */
+static char bin_small[256][8]; /* v < 256 in binary without leading zeros */
+static uint8_t bin_small_len[256];
+static char dec4[10000][4]; /* 0000..9999 */
 static int bin8_ready;
 
 static void init_tables(void)
@@ -64,6 +69,18 @@ static void init_tables(void)
     for (int v = 0; v < 256; v++)
         for (int b = 0; b < 8; b++)
             bin8[v][b] = (char)('0' + ((v >> (7 - b)) & 1));
+    for (int v = 0; v < 256; v++) {
+        int nb = v ? 32 - __builtin_clz((unsigned)v) : 1;
+        for (int b = 0; b < nb; b++)
+            bin_small[v][b] = (char)('0' + ((v >> (nb - 1 - b)) & 1));
+        bin_small_len[v] = (uint8_t)nb;
+    }
+    for (int v = 0; v < 10000; v++) {
+        dec4[v][0] = (char)('0' + v / 1000);
+        dec4[v][1] = (char)('0' + v / 100 % 10);
+        dec4[v][2] = (char)('0' + v / 10 % 10);
+        dec4[v][3] = (char)('0' + v % 10);
+    }
     bin8_ready = 1;
 }
 
@@ -105,11 +122,17 @@ static const char digits2[201] =
     "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
     "8081828384858687888990919293949596979899";
 
-/* Decimal, two digits per step. */
+/* Decimal, four digits per step (then two). */
 static inline char *put_u64(char *p, uint64_t v)
 {
     char tmp[24];
     int n = 24;
+    while (v >= 10000) {
+        unsigned r = (unsigned)(v % 10000);
+        v /= 10000;
+        n -= 4;
+        memcpy(tmp + n, dec4[r], 4);
+    }
     while (v >= 100) {
         unsigned r = (unsigned)(v % 100);
         v /= 100;
@@ -129,6 +152,10 @@ static inline char *put_u64(char *p, uint64_t v)
 /* Binary without leading zeros ("0" for zero). */
 static inline char *put_bin(char *p, uint64_t v)
 {
+    if (v < 256) { /* the usual case for counters, states, occupancies */
+        memcpy(p, bin_small[v], 8);
+        return p + bin_small_len[v];
+    }
     if (v == 0) {
         *p++ = '0';
         return p;
@@ -175,13 +202,11 @@ static inline void emit_value(ks_vcd *d, const ks_vcd_var *v)
     if (v->kind == VAR_INT) {
         *p++ = 'b';
         p = put_bin(p, v->emitted);
-        *p++ = ' ';
     } else {
         *p++ = (char)('0' + (v->emitted & 1));
     }
-    memcpy(p, v->id, 8); /* padded: the extra bytes are overwritten next */
-    p += v->idlen;
-    *p++ = '\n';
+    memcpy(p, v->tail, 8); /* padded: the extra bytes are overwritten next */
+    p += v->tail_len;
     d->pos = (size_t)(p - d->buf);
 }
 
@@ -242,6 +267,12 @@ static int var_cmp(const void *pa, const void *pb)
 static void write_header(ks_vcd *d)
 {
     d->header_done = 1;
+    /* the declarations are final: room for every variable in the dirty list
+     * (each is in it at most once), so ks_vcd_set need not check */
+    if (d->cap_dirty < d->n_vars) {
+        d->cap_dirty = d->n_vars;
+        d->dirty = ks__xrealloc(d->dirty, d->cap_dirty * sizeof *d->dirty);
+    }
     put_str(d, "$version rtsim kernel VCD writer $end\n$timescale ");
     put_str(d, d->ts_str);
     put_str(d, " $end\n");
@@ -456,6 +487,13 @@ static ks_vcd_var *declare(ks_vcd *d, const char *name, int kind, unsigned width
         n /= 94;
     } while (n && len < 5);
     v->idlen = (uint8_t)len;
+    int tl = 0;
+    if (kind == VAR_INT)
+        v->tail[tl++] = ' ';
+    memcpy(v->tail + tl, v->id, (size_t)len);
+    tl += len;
+    v->tail[tl++] = '\n';
+    v->tail_len = (uint8_t)tl;
     KS_GROW(d->vars, d->n_vars, d->cap_vars);
     d->vars[d->n_vars++] = v;
     return v;
@@ -554,6 +592,7 @@ ks_vcd *ks_vcd_open(ks_sim *sim, const char *path, const char *timescale, ks_tim
     ks_vcd *d = ks__xcalloc(1, sizeof *d);
     d->sim = sim;
     d->now = &sim->now;
+    d->cur_t = -1; /* no time stamp yet: every set goes through new_time */
     d->path = ks__xstrdup(path);
     d->direct = strncmp(path, "/dev/", 5) == 0;
     size_t pl = strlen(path);

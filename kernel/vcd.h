@@ -72,8 +72,10 @@ static inline void ks_vcd_set(ks_vcd_var *var, uint64_t value)
         return;
     struct ks__vcd_head *d = h->vcd;
     /* a change at the current time stamp: record it (the final value of
-     * the time stamp is written when time moves on) */
-    if (*d->now == d->cur_t && d->header_done && (h->dirty || d->n_dirty < d->cap_dirty)) {
+     * the time stamp is written when time moves on). cur_t is -1 until the
+     * header is written, and the dirty list then has room for every
+     * variable. */
+    if (*d->now == d->cur_t) {
         h->value = value;
         if (!h->dirty) {
             h->dirty = 1;

@@ -9,6 +9,7 @@
 #include "kernel/clock.h"
 #include "kernel/fifo.h"
 #include "kernel/vcd.h"
+#include "model/dram_port.h"
 #include "model/ist.h"
 #include "model/memsys.h"
 #include "model/trv.h"
@@ -180,6 +181,11 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     }
     ist_set_probe(&t->ist, probe_cache, memsys_prim(t->mem));
     ks_clocked_wake_on(t->ist.proc, memsys_prim_filled(t->mem));
+    if (opts->exhaustive) {
+        ks_clock_set_exhaustive(t->clk, 1);
+        if (memsys_dram_port(t->mem))
+            ks_clock_set_exhaustive(dram_port_clock(memsys_dram_port(t->mem)), 1);
+    }
 
     /* statistics: the frame's figures first, then per unit */
     ks_stat_counter_ref(t->stats, "cycles", "cycles", "accelerator cycles of the frame (to the last ray's completion)",

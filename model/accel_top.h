@@ -39,6 +39,8 @@ typedef struct accel_top_opts {
     accel_event_fn events;         /* per-ray event log (NULL: none) */
     void *events_user;
     uint64_t deadlock_cycles;      /* kernel detector window; 0 = default (100000) */
+    bool exhaustive;               /* step every unit every cycle on every clock (no idle
+                                      skipping): the reference mode results must equal */
 } accel_top_opts;
 
 /* Called between run slices (every ~64K cycles) for progress bars. */

@@ -192,6 +192,31 @@ static cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_
     }
     uint64_t first = addr >> c->line_shift;
     uint64_t last = (addr + (bytes ? bytes : 1) - 1) >> c->line_shift;
+    if (first == last) {
+        /* fast path: one line that is present (most node-cache probes).
+         * Exactly the general path's effects for that case: one line needs
+         * one slot of its bank's ports for one cycle. A missing line goes on
+         * to the general path, which repeats the (side-effect free) checks. */
+        uint32_t b = bank_of(c, first);
+        if (now != c->bank_cycle) {
+            c->bank_cycle = now;
+            memset(c->bank_used, 0, c->p.banks * sizeof *c->bank_used);
+        }
+        if (!(c->bank_busy_until[b] < now && (c->bank_used[b] + 1 <= c->p.ports || c->bank_used[b] == 0))) {
+            c->st.blocked_bank++;
+            return CACHE_BLOCKED;
+        }
+        int w = lookup(c, first);
+        if (w >= 0) {
+            c->ports_used++;
+            c->bank_used[b]++;
+            c->last_cycles = 1;
+            c->st.accesses++;
+            c->stamp[w] = ++c->clock;
+            c->st.hits++;
+            return CACHE_HIT;
+        }
+    }
     int n = (int)(last - first + 1);
     if (n > MAX_LINES_PER_ACCESS) {
         fprintf(stderr, "cache: access of %u bytes spans %d lines (at most %d)\n", bytes, n, MAX_LINES_PER_ACCESS);

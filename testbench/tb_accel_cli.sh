@@ -79,6 +79,11 @@ then pass accel_cli_json; else fail accel_cli_json "missing fields or units"; fi
 "$bin" "$scene" --res 24x16 --machine mbvh4 --rays diffuse --json "$tmp/d2.json" --quiet
 check accel_cli_deterministic cmp -s "$tmp/d1.json" "$tmp/d2.json"
 
+# --exhaustive (no idle skipping) gives the same frame cycles
+c_skip=$("$bin" "$scene" --res 24x16 --machine bvh2 --rays diffuse --set memory.model=fixed | awk '/^cycles/ { print $2 }')
+c_exh=$("$bin" "$scene" --res 24x16 --machine bvh2 --rays diffuse --set memory.model=fixed --exhaustive | awk '/^cycles/ { print $2 }')
+check accel_cli_exhaustive_same_cycles test -n "$c_skip" -a "$c_skip" = "$c_exh"
+
 # VCD: scopes per unit, window and filter
 "$bin" "$scene" --res 16x8 --quiet --vcd "$tmp/w.vcd" --vcd-window 100:400
 if grep -q '^\$scope module trv0 \$end' "$tmp/w.vcd" && grep -q 'state' "$tmp/w.vcd" && grep -q 'issue_ray' "$tmp/w.vcd" \

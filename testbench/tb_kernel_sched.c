@@ -312,6 +312,93 @@ static void test_run_control(void)
     tb_end();
 }
 
+/* ---- timed queue order against a reference ----
+ * 40 methods re-arm themselves with next_trigger_time after delays mixing
+ * equal small ones (many ties) and huge ones (up to 2^38 ps, crossing the
+ * queue's digit boundaries); the run is cut into slices by time limits and
+ * after each slice an event is notified 1 ps after the stop time (earlier
+ * than entries the queue already looked at). Every activation must be the
+ * (time, arming order) minimum of a reference list of pending arms. */
+enum { QO_PROCS = 40, QO_MAX = 4096 };
+typedef struct qo_arm {
+    ks_time t;
+    uint64_t seq;
+    int id;
+} qo_arm;
+static qo_arm qo_pend[QO_PROCS + 64];
+static int qo_npend, qo_acts, qo_bad, qo_inits;
+static uint64_t qo_seq, qo_rng = 12345;
+static ks_method *qo_m[QO_PROCS + 1];
+static int qo_id[QO_PROCS + 1];
+static ks_event qo_ev;
+static uint64_t qo_next(void)
+{
+    qo_rng = qo_rng * 6364136223846793005ull + 1442695040888963407ull;
+    return qo_rng >> 24;
+}
+static void qo_check(int id)
+{
+    ks_time now = ks_sim_now(g_sim);
+    int best = -1;
+    for (int i = 0; i < qo_npend; i++)
+        if (best < 0 || qo_pend[i].t < qo_pend[best].t ||
+            (qo_pend[i].t == qo_pend[best].t && qo_pend[i].seq < qo_pend[best].seq))
+            best = i;
+    if (best < 0 || qo_pend[best].id != id || qo_pend[best].t != now) {
+        if (!qo_bad)
+            TB_CHECK(0, "activation %d: process %d at %lld, expected %d at %lld", qo_acts, id,
+                     (long long)now, best < 0 ? -1 : qo_pend[best].id,
+                     best < 0 ? -1LL : (long long)qo_pend[best].t);
+        qo_bad = 1;
+        return;
+    }
+    qo_pend[best] = qo_pend[--qo_npend];
+}
+static void qo_proc(void *u)
+{
+    int id = *(int *)u;
+    int armed = 0;
+    for (int i = 0; i < qo_npend; i++)
+        armed |= qo_pend[i].id == id;
+    if (armed || id == QO_PROCS)
+        qo_check(id);
+    else
+        qo_inits++; /* initialisation run at time 0 */
+    if (id == QO_PROCS || ++qo_acts >= QO_MAX)
+        return;
+    uint64_t r = qo_next();
+    ks_time d = r % 4 == 0 ? (ks_time)(1 + qo_next() % ((uint64_t)1 << 38))
+                           : (ks_time)(1 + r % 3) * 1000;
+    ks_next_trigger_time(qo_m[id], d);
+    qo_pend[qo_npend++] = (qo_arm){ks_sim_now(g_sim) + d, ++qo_seq, id};
+}
+static void test_queue_order(void)
+{
+    tb_begin("timed_queue_pops_in_time_then_notification_order");
+    g_sim = ks_sim_create();
+    ks_event_init(&qo_ev, g_sim, "qo.ev");
+    for (int i = 0; i <= QO_PROCS; i++) {
+        qo_id[i] = i;
+        qo_m[i] = ks_method_create(g_sim, "qo", qo_proc, &qo_id[i]);
+    }
+    ks_method_sensitive(qo_m[QO_PROCS], &qo_ev);
+    ks_method_dont_initialize(qo_m[QO_PROCS]);
+    int slices = 0;
+    while (ks_sim_run(g_sim, ks_sim_now(g_sim) + ((ks_time)1 << 33)) == KS_RUN_TIME_LIMIT &&
+           !qo_bad && slices < 100000) {
+        slices++;
+        ks_event_notify_at(&qo_ev, ks_sim_now(g_sim) + 1);
+        qo_pend[qo_npend++] = (qo_arm){ks_sim_now(g_sim) + 1, ++qo_seq, QO_PROCS};
+    }
+    TB_EQ_INT(qo_inits, QO_PROCS);
+    TB_CHECK(qo_acts >= QO_MAX, "%d activations", qo_acts);
+    TB_CHECK(slices > 10, "only %d slices", slices);
+    TB_EQ_INT(qo_npend, 0);
+    ks_event_destroy(&qo_ev);
+    ks_sim_destroy(g_sim);
+    tb_end();
+}
+
 int main(void)
 {
     test_signal_delta();
@@ -319,5 +406,6 @@ int main(void)
     test_equal_time_order();
     test_dynamic();
     test_run_control();
+    test_queue_order();
     return tb_finish();
 }

@@ -96,7 +96,7 @@ const char *ks_fifo_name(const ks_fifo *f) { return f->name; }
 ks_event *ks_fifo_ev_written(ks_fifo *f) { return &f->ev_written; }
 ks_event *ks_fifo_ev_freed(ks_fifo *f) { return &f->ev_freed; }
 uint32_t ks_fifo_max_occupancy(const ks_fifo *f) { return f->max_occ; }
-uint64_t ks_fifo_total_writes(const ks_fifo *f) { return f->writes; }
+uint64_t ks_fifo_total_writes(const ks_fifo *f) { return f->reads + f->count; }
 uint64_t ks_fifo_total_reads(const ks_fifo *f) { return f->reads; }
 uint64_t ks_fifo_rejected_writes(const ks_fifo *f) { return f->rejected; }
 

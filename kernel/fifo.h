@@ -54,7 +54,7 @@ typedef struct ks_fifo {
     /* Occupancy integral = sum of read times + count * now - sum of write
      * times (each item contributes its residence time); exact. */
     unsigned __int128 sum_write_t, sum_read_t;
-    uint64_t writes, reads, rejected;
+    uint64_t reads, rejected;  /* writes = reads + count */
     struct ks_vcd_var *vcd_occ;
 } ks_fifo;
 
@@ -143,7 +143,6 @@ static KS_ALWAYS_INLINE int ks__fifo_write(ks_fifo *f, const void *item, int mod
     ks_time ready = now + f->latency_ps;
     f->ready[i] = ready;
     f->count++;
-    f->writes++;
     if (f->count > f->max_occ)
         f->max_occ = f->count;
     if (f->vcd_occ)

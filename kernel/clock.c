@@ -159,8 +159,21 @@ static void wake_cycle(ks_clocked *p, uint64_t k)
         }
         return;
     }
-    if (!c->scheduled || k < c->sched_cycle)
+    if (!c->scheduled || k < c->sched_cycle) {
+        /* the processes woken for the tick being moved earlier must still
+         * step at that later cycle: turn their woken bits into timers */
+        if (c->scheduled)
+            for (uint32_t w = 0; w < c->n_words; w++)
+                for (uint64_t m = c->woken[w]; m; m &= m - 1) {
+                    uint32_t idx = w * 64 + (uint32_t)__builtin_ctzll(m);
+                    ks_clocked *q = c->procs[idx];
+                    if (q->last_timer != c->sched_cycle) {
+                        q->last_timer = c->sched_cycle;
+                        timer_push(c, c->sched_cycle, idx);
+                    }
+                }
         schedule_tick(c, k);
+    }
     if (k == c->sched_cycle)
         c->woken[p->idx >> 6] |= bit;
     else if (p->last_timer != k) {

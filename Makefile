@@ -54,6 +54,9 @@ $(BUILD)/lib/%.a:
 	@mkdir -p $(@D)
 	$(AR) rcs $@ $^
 
+# Every tool reports the commit it was built from (cli/version.h).
+$(BUILD)/obj/cli/%.c.o: CPPFLAGS += -DRTSIM_GIT='"$(shell git rev-parse --short HEAD 2>/dev/null || echo unknown)"'
+
 $(BUILD)/obj/%.c.o: %.c
 	@mkdir -p $(@D)
 	$(CC) $(CPPFLAGS) $(CFLAGS) -c $< -o $@

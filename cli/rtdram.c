@@ -20,10 +20,7 @@
 #ifndef RTSIM_DATA_DIR
 #define RTSIM_DATA_DIR "model/data"
 #endif
-#ifndef RTSIM_GIT
-#define RTSIM_GIT "unknown"
-#endif
-#define RTDRAM_VERSION "1.0"
+#include "cli/version.h"
 
 static void usage(FILE *o)
 {
@@ -86,7 +83,7 @@ int main(int argc, char **argv)
         case 'x': exhaustive = 1; break;
         case 'K': kernel = 1; break;
         case 'h': usage(stdout); free(sets); return 0;
-        case 'v': printf("rtdram %s (git %s)\n", RTDRAM_VERSION, RTSIM_GIT); free(sets); return 0;
+        case 'v': printf("rtdram %s (git %s)\n", RTSIM_VERSION, RTSIM_GIT); free(sets); return 0;
         default: usage(stderr); free(sets); return 2;
         }
     }
@@ -142,7 +139,7 @@ int main(int argc, char **argv)
             dram_ctrl_destroy(c);
             return 2;
         }
-        fprintf(sk.f, "# cycle,channel,rank,bank,cmd,row  (rtdram %s, trace %s)\n", RTDRAM_VERSION, trace);
+        fprintf(sk.f, "# cycle,channel,rank,bank,cmd,row  (rtdram %s, trace %s)\n", RTSIM_VERSION, trace);
     }
     if (check)
         sk.checker = dram_checker_create(&spec, stderr, 20);

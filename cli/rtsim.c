@@ -22,10 +22,8 @@
 #include "tracer/image.h"
 #include "tracer/scene.h"
 
-#ifndef RTSIM_GIT
-#define RTSIM_GIT "unknown"
-#endif
-#define RTSIM_VERSION "0.1"
+#include "cli/output_path.h"
+#include "cli/version.h"
 
 static void usage(FILE *out)
 {
@@ -302,6 +300,10 @@ int main(int argc, char **argv)
     if (rtcfg_finish(cfg, err, sizeof err))
         goto fail;
     if (!rt_parse_resolution(res, &w, &h, err, sizeof err))
+        goto fail;
+    if (!cli_output_path_ok("--json", json, err, sizeof err) || !cli_output_path_ok("--vcd", vcd, err, sizeof err) ||
+        !cli_output_path_ok("--heatmap", heatmap, err, sizeof err) ||
+        !cli_output_path_ok("--autosize-fifos", autosize, err, sizeof err))
         goto fail;
     if (!rt_scene_load(scene_name, &sc, err, sizeof err))
         goto fail;

@@ -34,10 +34,8 @@
 #include "tracer/trace_log.h"
 #include "tracer/traverse.h"
 
-#ifndef RTSIM_GIT
-#define RTSIM_GIT "unknown"
-#endif
-#define RTTRACE_VERSION "1.0"
+#include "cli/output_path.h"
+#include "cli/version.h"
 #define BOUNCES_MAX 32            /* rt_ray.bounce is 8 bits; 32 is far beyond the paper's 4 */
 /* Issue 3: at least 99.999% of rays identical to Embree on the built-ins. */
 #define MISMATCH_RATE_DEFAULT 1e-5
@@ -125,25 +123,11 @@ static bool parse_bvh(const char *text, int *width)
  * supported extension), checked before any work is done. */
 static int check_output(const char *opt, const char *path, bool image)
 {
-    if (!path)
-        return 0;
-    if (!*path)
-        return bad_usage("%s: empty file name", opt);
-    if (image && !rt_image_format_supported(path))
+    char why[4600];
+    if (!cli_output_path_ok(opt, path, why, sizeof why))
+        return bad_usage("%s", why);
+    if (path && image && !rt_image_format_supported(path))
         return bad_usage("%s %s: unsupported image type; allowed: .png, .exr", opt, path);
-    char dir[4096];
-    const char *slash = strrchr(path, '/');
-    if (slash)
-        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path) ? (int)(slash - path) : 1, path);
-    else
-        snprintf(dir, sizeof dir, ".");
-    struct stat st;
-    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode))
-        return bad_usage("%s %s: folder %s does not exist", opt, path, dir);
-    if (access(dir, W_OK) != 0)
-        return bad_usage("%s %s: folder %s is not writable", opt, path, dir);
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode))
-        return bad_usage("%s %s: is a folder", opt, path);
     return 0;
 }
 
@@ -266,7 +250,7 @@ typedef struct run_info {
 
 static void json_common(FILE *f, const run_info *ri, bool *first)
 {
-    json_s(f, "tool", "rttrace " RTTRACE_VERSION " (git " RTSIM_GIT ")", first);
+    json_s(f, "tool", "rttrace " RTSIM_VERSION " (git " RTSIM_GIT ")", first);
     json_s(f, "scene", ri->sc->name, first);
     json_u(f, "triangles", ri->sc->mesh.ntris, first);
     char hex[24];
@@ -548,7 +532,7 @@ int main(int argc, char **argv)
         case 'D': o.read_log = optarg; break;
         case 'q': o.quiet = true; break;
         case 'h': usage(stdout); return 0;
-        case 'v': printf("rttrace %s (git %s)\n", RTTRACE_VERSION, RTSIM_GIT); return 0;
+        case 'v': printf("rttrace %s (git %s)\n", RTSIM_VERSION, RTSIM_GIT); return 0;
         case ':': return bad_usage("%s needs a value", argv[optind - 1]);
         default: return bad_usage("unknown option %s", argv[optind - 1]);
         }

@@ -1,5 +1,3 @@
-# Accelerator (issue 5): rtsim reports the git commit in --version.
-$(BUILD)/obj/cli/rtsim.c.o: CPPFLAGS += -DRTSIM_GIT='"$(shell git rev-parse --short HEAD 2>/dev/null || echo unknown)"'
 # The main job of README's `make run`: the interior scene at 320x180 on the
 # MBVH4 machine with primary rays (a few seconds).
 RUN_CMD = $(BUILD)/bin/rtsim interior --res 320x180 --machine mbvh4 --rays primary

@@ -24,7 +24,7 @@ res=64x36 scenes="interior hairball city forest"
 # (the sanitizer build runs the traced cases below).
 if [ -z "${RTSIM_TB_SANITIZED:-}" ]; then
 expect rttrace_help 0 "usage: rttrace SCENE" -- "$bin" --help
-expect rttrace_version 0 "rttrace 1.0 (git " -- "$bin" --version
+expect rttrace_version 0 "rttrace 0.1.0 (git " -- "$bin" --version
 expect rttrace_no_scene 2 "missing SCENE" -- "$bin"
 expect rttrace_unknown_option 2 "unknown option --bogus" -- "$bin" interior --bogus
 expect rttrace_missing_value 2 "--res needs a value" -- "$bin" interior --res

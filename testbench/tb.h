@@ -70,6 +70,25 @@ static inline void tb_skip(const char *name, const char *why)
 /* Exit status of the program: 0 when every case passed. */
 static inline int tb_finish(void) { return tb_cases_failed ? 1 : 0; }
 
+/* Reads a whole file into a NUL-terminated buffer (free() it); *len (may
+ * be NULL) gets the byte count. NULL when the file cannot be opened. */
+static inline char *tb_read_file(const char *path, size_t *len)
+{
+    FILE *f = fopen(path, "rb");
+    if (!f)
+        return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *b = malloc(n > 0 ? (size_t)n + 1 : 1);
+    size_t got = n > 0 ? fread(b, 1, (size_t)n, f) : 0;
+    b[got] = 0;
+    fclose(f);
+    if (len)
+        *len = got;
+    return b;
+}
+
 /* Set by run.sh for the sanitizer build: heavy cases may shrink their inputs. */
 static inline bool tb_is_sanitized(void) { return getenv("RTSIM_TB_SANITIZED") != NULL; }
 

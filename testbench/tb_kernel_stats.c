@@ -18,20 +18,6 @@ static double hit_rate(const ks_stats *reg, void *user)
     return a ? h / a : 0;
 }
 
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)n + 1);
-    size_t got = fread(b, 1, (size_t)n, f);
-    b[got] = 0;
-    fclose(f);
-    return b;
-}
 
 static ks_stats *make_registry(uint64_t *owned)
 {
@@ -111,7 +97,7 @@ static void test_outputs(void)
                  json);
         TB_CHECK(system(cmd) == 0, "python3 rejected or misread %s", json);
     } else {
-        char *t = slurp(json);
+        char *t = tb_read_file(json, NULL);
         TB_CHECK(t && strstr(t, "\"l1.accesses\": 1000,"), "JSON lacks a counter");
         free(t);
     }
@@ -121,7 +107,7 @@ static void test_outputs(void)
     f = fopen(csv, "w");
     TB_EQ_INT(ks_stats_write_csv(r, f), 0);
     fclose(f);
-    char *t = slurp(csv);
+    char *t = tb_read_file(csv, NULL);
     TB_CHECK(t && !strncmp(t, "name,value,unit,description\nl1.accesses,1000,accesses,node L1 accesses\n", 70),
              "CSV start:\n%s", t ? t : "");
     TB_CHECK(t && strstr(t, "\nenergy,0.1,mJ,\"energy \"\"per\"\" frame\"\n"), "CSV quoting:\n%s", t ? t : "");
@@ -130,7 +116,7 @@ static void test_outputs(void)
     f = fopen(csv, "w");
     TB_EQ_INT(ks_stats_write_summary(r, f), 0);
     fclose(f);
-    t = slurp(csv);
+    t = tb_read_file(csv, NULL);
     TB_CHECK(t && strstr(t, "trv0.node_visits") && strstr(t, "n=6 mean=") && strstr(t, "nodes visited by TRV 0"),
              "summary:\n%s", t ? t : "");
     free(t);

@@ -52,20 +52,6 @@ static int scen_step(void *u, uint64_t cycle)
     }
 }
 
-static char *slurp(const char *path)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    char *b = malloc((size_t)n + 1);
-    size_t got = fread(b, 1, (size_t)n, f);
-    b[got] = 0;
-    fclose(f);
-    return b;
-}
 
 static void tmp_path(char *buf, size_t cap, const char *name)
 {
@@ -127,7 +113,7 @@ static void check_with_gtkwave(const char *vcd, const char *must_contain)
     TB_CHECK(system(cmd) == 0, "vcd2fst failed on %s", vcd);
     snprintf(cmd, sizeof cmd, "fst2vcd '%s' >'%s' 2>/dev/null", fst, back);
     TB_CHECK(system(cmd) == 0, "fst2vcd failed on %s", fst);
-    char *t = slurp(back);
+    char *t = tb_read_file(back, NULL);
     TB_CHECK(t && strstr(t, must_contain), "round trip through FST lost '%s'", must_contain);
     free(t);
     remove(fst);
@@ -143,7 +129,7 @@ int main(void)
     tmp_path(path, sizeof path, "kernel_full.vcd");
     TB_EQ_INT(run_scenario(path, 0, KS_TIME_MAX, NULL, &nvars), 0);
     TB_EQ_INT(nvars, 5);
-    char *txt = slurp(path);
+    char *txt = tb_read_file(path, NULL);
     char expect[4096];
     snprintf(expect, sizeof expect, "%s%s", header_full,
              "#0\n$dumpvars\n1!\nb11 \"\nsBUSY #\nb1 $\nb101 %\n$end\n"
@@ -158,7 +144,7 @@ int main(void)
     /* written under a temporary name and renamed */
     char tmp[1100];
     snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    TB_CHECK(slurp(tmp) == NULL, "temporary file left behind");
+    TB_CHECK(tb_read_file(tmp, NULL) == NULL, "temporary file left behind");
     tb_end();
 
     if (have_vcd2fst()) {
@@ -172,7 +158,7 @@ int main(void)
     tb_begin("vcd_time_window");
     tmp_path(path, sizeof path, "kernel_window.vcd");
     TB_EQ_INT(run_scenario(path, KS_NS(4), KS_NS(7), NULL, &nvars), 0);
-    txt = slurp(path);
+    txt = tb_read_file(path, NULL);
     snprintf(expect, sizeof expect, "%s%s", header_full,
              "#4\n$dumpvars\n0!\nb11001000 \"\nsBUSY #\nb0 $\nb101 %\n$end\n"
              "#6\nsDONE #\n1!\n"
@@ -185,7 +171,7 @@ int main(void)
     tmp_path(path, sizeof path, "kernel_filter.vcd");
     TB_EQ_INT(run_scenario(path, 0, KS_TIME_MAX, "top.unit.c*, *.occupancy", &nvars), 0);
     TB_EQ_INT(nvars, 2);
-    txt = slurp(path);
+    txt = tb_read_file(path, NULL);
     TB_CHECK(txt && strstr(txt, " count $end") && strstr(txt, " occupancy $end"), "kept vars missing");
     TB_CHECK(txt && !strstr(txt, "valid") && !strstr(txt, "state") && !strstr(txt, " sig "),
              "filtered vars present:\n%s", txt ? txt : "");
@@ -214,7 +200,7 @@ int main(void)
     TB_CHECK(!ks_vcd_var_bit(v, "has space", 0), "name with a space accepted");
     TB_CHECK(ks_vcd_open(sim, path, "1ps", 0, KS_TIME_MAX, NULL) == NULL, "second writer accepted");
     ks_sim_destroy(sim); /* closes the writer */
-    txt = slurp(path);
+    txt = tb_read_file(path, NULL);
     TB_CHECK(txt && strstr(txt, "$timescale 10ps $end") && strstr(txt, "$enddefinitions"),
              "writer not closed by ks_sim_destroy");
     free(txt);

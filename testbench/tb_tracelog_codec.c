@@ -15,6 +15,7 @@
 #include <zlib.h>
 
 #include "testbench/tb.h"
+#include "testbench/tb_tracer_util.h"
 #include "tracer/camera.h"
 #include "tracer/rng.h"
 #include "tracer/trace_log.h"
@@ -187,20 +188,6 @@ static void syn_image(rt_bvh_image *img, int width, int leaf_size, uint32_t ntri
 
 /* ---------- an independent traversal (traverse.h's algorithm) ---------- */
 
-typedef struct ev_list {
-    rt_trv_event *e;
-    size_t n, cap;
-} ev_list;
-
-static void ev_add(void *user, const rt_trv_event *ev)
-{
-    ev_list *l = user;
-    if (l->n == l->cap) {
-        l->cap = l->cap ? 2 * l->cap : 256;
-        l->e = realloc(l->e, l->cap * sizeof *l->e);
-    }
-    l->e[l->n++] = *ev;
-}
 
 static void emit(rt_trv_event_fn fn, void *u, int kind, uint32_t a, uint32_t b, float t)
 {
@@ -322,7 +309,7 @@ typedef struct traced {
     rt_ray *rays;
     rt_hit *hits;
     bool *ok;
-    ev_list *ev;
+    tbt_ev_list *ev;
     uint32_t n;
 } traced;
 
@@ -337,7 +324,7 @@ static void trace_all(const rt_bvh_image *img, int depth, bool cull, uint32_t n,
     t->ev = calloc(n, sizeof *t->ev);
     for (uint32_t i = 0; i < n; i++) {
         t->rays[i] = syn_ray(&g, i);
-        t->ok[i] = syn_trace(img, depth, cull, &t->rays[i], &t->hits[i], ev_add, &t->ev[i]);
+        t->ok[i] = syn_trace(img, depth, cull, &t->rays[i], &t->hits[i], tbt_ev_add, &t->ev[i]);
     }
 }
 
@@ -386,11 +373,11 @@ static long read_compare(const char *path, const rt_bvh_image *img, const traced
     if (!r)
         return -1;
     long diffs = 0;
-    ev_list got = {0};
+    tbt_ev_list got = {0};
     rt_tlog_ray ray;
     uint32_t i = 0;
     int s;
-    while ((s = rt_tlog_read_ray(r, &ray, ev_add, &got, err, errlen)) == 1) {
+    while ((s = rt_tlog_read_ray(r, &ray, tbt_ev_add, &got, err, errlen)) == 1) {
         if (i >= t->n) {
             diffs++;
             continue;
@@ -416,19 +403,6 @@ static long read_compare(const char *path, const rt_bvh_image *img, const traced
     return diffs + (i != t->n);
 }
 
-static unsigned char *slurp(const char *path, size_t *len)
-{
-    FILE *f = fopen(path, "rb");
-    if (!f)
-        return NULL;
-    fseek(f, 0, SEEK_END);
-    long n = ftell(f);
-    fseek(f, 0, SEEK_SET);
-    unsigned char *b = malloc((size_t)n + 1);
-    *len = fread(b, 1, (size_t)n, f);
-    fclose(f);
-    return b;
-}
 static void spit(const char *path, const unsigned char *b, size_t len)
 {
     FILE *f = fopen(path, "wb");
@@ -549,7 +523,7 @@ static void test_corruption(void)
     snprintf(bad, sizeof bad, "%s", tmp_path("syn_bad.tlog"));
     bool ok = write_log(path, &img, 64, true, &t, err, sizeof err, &tot);
     size_t len = 0;
-    unsigned char *orig = ok ? slurp(path, &len) : NULL;
+    unsigned char *orig = ok ? (unsigned char *)tb_read_file(path, &len) : NULL;
 
     tb_begin("tracelog_every_byte_flip_rejected");
     if (TB_CHECK(orig != NULL, "write: %s", err)) {
@@ -741,10 +715,10 @@ static void test_writer_rejects_non_traversals(void)
             if (t.ev[i].e[k].kind == RT_EV_PUSH && t.ok[i] && !ri)
                 ri = i + 1;
     if (TB_CHECK(ri > 0, "no ray with a push")) {
-        ev_list *l = &t.ev[ri - 1];
+        tbt_ev_list *l = &t.ev[ri - 1];
         const char *path = tmp_path("syn_reject.tlog");
         for (int mode = 0; mode < 5; mode++) {
-            ev_list m = {malloc(l->n * sizeof *l->e), l->n, l->n};
+            tbt_ev_list m = {malloc(l->n * sizeof *l->e), l->n, l->n};
             memcpy(m.e, l->e, l->n * sizeof *l->e);
             size_t p = 0;
             while (m.e[p].kind != RT_EV_PUSH)

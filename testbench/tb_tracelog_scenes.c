@@ -9,6 +9,7 @@
 #include <string.h>
 
 #include "testbench/tb.h"
+#include "testbench/tb_tracer_util.h"
 #include "tracer/bounce.h"
 #include "tracer/builtin.h"
 #include "tracer/bvh.h"
@@ -17,20 +18,6 @@
 #include "tracer/trace_log.h"
 #include "tracer/traverse.h"
 
-typedef struct ev_list {
-    rt_trv_event *e;
-    size_t n, cap;
-} ev_list;
-
-static void ev_add(void *user, const rt_trv_event *ev)
-{
-    ev_list *l = user;
-    if (l->n == l->cap) {
-        l->cap = l->cap ? 2 * l->cap : 256;
-        l->e = realloc(l->e, l->cap * sizeof *l->e);
-    }
-    l->e[l->n++] = *ev;
-}
 
 static uint32_t g_w, g_h;
 
@@ -97,11 +84,11 @@ static double round_trip(const char *label, const rt_scene *sc, const rt_bvh_ima
         return -1;
     TB_EQ_INT(hdr.ray_count, rays->n);
     TB_EQ_INT(hdr.info.mesh_hash, rt_mesh_hash(&sc->mesh));
-    ev_list got = {0}, want = {0};
+    tbt_ev_list got = {0}, want = {0};
     rt_tlog_ray lr;
     uint64_t n = 0, bad_rays = 0, bad_events = 0;
     int s;
-    while ((s = rt_tlog_read_ray(r, &lr, ev_add, &got, err, sizeof err)) == 1) {
+    while ((s = rt_tlog_read_ray(r, &lr, tbt_ev_add, &got, err, sizeof err)) == 1) {
         if (n >= rays->n) {
             bad_rays++;
             break;
@@ -110,7 +97,7 @@ static double round_trip(const char *label, const rt_scene *sc, const rt_bvh_ima
         rt_hit h;
         rt_trv_counts c;
         want.n = 0;
-        rt_trace_ray(img, p, ray, &h, &c, ev_add, &want);
+        rt_trace_ray(img, p, ray, &h, &c, tbt_ev_add, &want);
         if (memcmp(&lr.ray.org, &ray->org, 12) || memcmp(&lr.ray.dir, &ray->dir, 12) || lr.ray.pixel != ray->pixel ||
             lr.ray.bounce != ray->bounce || lr.hit.prim != h.prim || memcmp(&lr.hit.t, &h.t, 4) ||
             memcmp(&lr.counts, &c, sizeof c) != 0)

@@ -12,19 +12,9 @@
 #include <unistd.h>
 
 #include "testbench/tb.h"
+#include "testbench/tb_tracer_util.h"
 #include "tracer/scene.h"
 
-static const char *scenes_dir(void)
-{
-    const char *e = getenv("RTSIM_SCENES");
-    if (e && *e)
-        return e;
-    if (access("../shared/scenes/README.md", R_OK) == 0)
-        return "../shared/scenes";
-    if (access("../../shared/scenes/README.md", R_OK) == 0)
-        return "../../shared/scenes";
-    return NULL;
-}
 
 /* Reads "<key> N,NNN" from SOURCE.txt (first occurrence at a line start,
  * after optional spaces); -1 when absent. */
@@ -122,7 +112,7 @@ int main(void)
 {
     scene_file("shared-bunny.scene", "bunny/stanford-bunny.obj.gz");
     scene_file("shared-sponza.scene", "sponza-ravenbridge/stk_ravenbridge_mansion.ply.gz");
-    const char *root = scenes_dir();
+    const char *root = tbt_scenes_dir();
     one(root, "bunny", "stanford-bunny.obj.gz", false);
     one(root, "sponza-ravenbridge", "stk_ravenbridge_mansion.ply.gz", false);
     one(root, "rungholt-candela", "stk_candela_city.ply.gz", false);

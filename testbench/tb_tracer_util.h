@@ -12,6 +12,7 @@
 #include "tracer/mesh.h"
 #include "tracer/ray.h"
 #include "tracer/rng.h"
+#include "tracer/traverse.h"
 
 /* The real scenes: $RTSIM_SCENES, else ../shared/scenes from the repository
  * root, else ../../shared/scenes (a git worktree under <root>/wt/); NULL when absent. */
@@ -25,6 +26,22 @@ static inline const char *tbt_scenes_dir(void)
     if (access("../../shared/scenes/README.md", R_OK) == 0)
         return "../../shared/scenes";
     return NULL;
+}
+
+/* Collects a traversal's event stream (an rt_trv_event_fn); free(l.e). */
+typedef struct tbt_ev_list {
+    rt_trv_event *e;
+    size_t n, cap;
+} tbt_ev_list;
+
+static inline void tbt_ev_add(void *user, const rt_trv_event *ev)
+{
+    tbt_ev_list *l = user;
+    if (l->n == l->cap) {
+        l->cap = l->cap ? 2 * l->cap : 256;
+        l->e = realloc(l->e, l->cap * sizeof *l->e);
+    }
+    l->e[l->n++] = *ev;
 }
 
 static inline float tbt_uniform(rt_rng *r, float lo, float hi) { return lo + (hi - lo) * rt_rng_float(r); }

@@ -163,6 +163,17 @@ double *ks_stat_real(ks_stats *reg, const char *name, const char *unit, const ch
     return &e->own_d;
 }
 
+int ks_stat_counter_ref_in(ks_stats *reg, const char *scope, const char *name, const char *unit,
+                           const char *desc, const uint64_t *value)
+{
+    char full[256];
+    if (snprintf(full, sizeof full, "%s.%s", scope, name) >= (int)sizeof full) {
+        set_error(reg, "statistic '%s.%s': name longer than %zu characters", scope, name, sizeof full - 1);
+        return -1;
+    }
+    return ks_stat_counter_ref(reg, full, unit, desc, value);
+}
+
 int ks_stat_counter_ref(ks_stats *reg, const char *name, const char *unit, const char *desc,
                         const uint64_t *value)
 {

@@ -37,6 +37,10 @@ double *ks_stat_real(ks_stats *reg, const char *name, const char *unit, const ch
 /* Registers caller-owned storage (must outlive the registry's use); 0 / -1. */
 int ks_stat_counter_ref(ks_stats *reg, const char *name, const char *unit, const char *desc,
                         const uint64_t *value);
+/* The same for a statistic of a module instance: registered as
+ * "scope.name" (e.g. scope "trv0", name "visits" -> "trv0.visits"). */
+int ks_stat_counter_ref_in(ks_stats *reg, const char *scope, const char *name, const char *unit,
+                           const char *desc, const uint64_t *value);
 int ks_stat_real_ref(ks_stats *reg, const char *name, const char *unit, const char *desc,
                      const double *value);
 ks_histogram *ks_stat_histogram(ks_stats *reg, const char *name, const char *unit,

@@ -236,8 +236,7 @@ int cache_unit_register_stats(cache_unit *u, ks_stats *reg, const char *prefix)
     char name[160], num[160], den[160];
     for (size_t i = 0; i < sizeof f / sizeof f[0]; i++) {
         const ks_desc_item *d = ks_module_desc_find(&cache_unit_desc, KS_DESC_STAT, f[i].name);
-        snprintf(name, sizeof name, "%s.%s", prefix, f[i].name);
-        if (ks_stat_counter_ref(reg, name, d ? d->type : "", d ? d->desc : "", f[i].v))
+        if (ks_stat_counter_ref_in(reg, prefix, f[i].name, d ? d->type : "", d ? d->desc : "", f[i].v))
             return -1;
     }
     snprintf(name, sizeof name, "%s.hit_rate", prefix);

@@ -360,10 +360,8 @@ static const char *item_desc(const char *name, const char **unit)
 
 static int reg_counter(dram_port *p, ks_stats *st, const char *name, const uint64_t *v)
 {
-    char full[128];
     const char *unit, *desc = item_desc(name, &unit);
-    snprintf(full, sizeof full, "%s.%s", p->name, name);
-    return ks_stat_counter_ref(st, full, unit, desc, v);
+    return ks_stat_counter_ref_in(st, p->name, name, unit, desc, v);
 }
 
 static int reg_formula(dram_port *p, ks_stats *st, const char *name, int which)

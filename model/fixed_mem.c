@@ -135,10 +135,8 @@ int fixed_mem_register_stats(fixed_mem *m, ks_stats *reg, const char *prefix)
         {"latency_sum", "cycles", "sum over requests of accept-to-response cycles", &m->latency_sum},
         {"bus_busy_cycles", "cycles", "cycles the data bus was transferring", &m->bus_busy_cycles},
     };
-    char name[160];
     for (size_t i = 0; i < sizeof f / sizeof f[0]; i++) {
-        snprintf(name, sizeof name, "%s.%s", prefix, f[i].n);
-        if (ks_stat_counter_ref(reg, name, f[i].unit, f[i].desc, f[i].v))
+        if (ks_stat_counter_ref_in(reg, prefix, f[i].n, f[i].unit, f[i].desc, f[i].v))
             return -1;
     }
     return 0;

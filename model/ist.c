@@ -92,31 +92,23 @@ void ist_set_events(ist_unit *u, accel_event_fn fn, void *user)
     u->core.ev_user = user;
 }
 
-static void reg(ks_stats *st, const char *name, const char *stat, const char *unit, const char *desc,
-                const uint64_t *v)
-{
-    char full[160];
-    snprintf(full, sizeof full, "%s.%s", name, stat);
-    ks_stat_counter_ref(st, full, unit, desc, v);
-}
-
 void ist_register(ist_unit *u, const char *name, ks_stats *st, ks_vcd *vcd)
 {
     if (st) {
-        reg(st, name, "busy_cycles", "cycles", "cycles a triangle test issued", &u->busy_cycles);
-        reg(st, name, "tests", "tests", "triangle tests (committed)", &u->core.st.tests);
-        reg(st, name, "hits", "tests", "tests that found an intersection in range", &u->core.st.hits);
-        reg(st, name, "closer_hits", "tests", "hits that became the ray's closest", &u->core.st.closer);
-        reg(st, name, "leaves", "leaves", "leaves finished", &u->core.st.leaves);
-        reg(st, name, "loops_miss", "tests", "tests invalidated by a primitive cache miss", &u->core.st.loops_miss);
-        reg(st, name, "loops_blocked", "tests", "tests invalidated because the primitive cache was blocked",
+        ks_stat_counter_ref_in(st, name, "busy_cycles", "cycles", "cycles a triangle test issued", &u->busy_cycles);
+        ks_stat_counter_ref_in(st, name, "tests", "tests", "triangle tests (committed)", &u->core.st.tests);
+        ks_stat_counter_ref_in(st, name, "hits", "tests", "tests that found an intersection in range", &u->core.st.hits);
+        ks_stat_counter_ref_in(st, name, "closer_hits", "tests", "hits that became the ray's closest", &u->core.st.closer);
+        ks_stat_counter_ref_in(st, name, "leaves", "leaves", "leaves finished", &u->core.st.leaves);
+        ks_stat_counter_ref_in(st, name, "loops_miss", "tests", "tests invalidated by a primitive cache miss", &u->core.st.loops_miss);
+        ks_stat_counter_ref_in(st, name, "loops_blocked", "tests", "tests invalidated because the primitive cache was blocked",
             &u->core.st.loops_blocked);
-        reg(st, name, "exit_stall_cycles", "cycles", "cycles the exit stage waited for a full output FIFO",
+        ks_stat_counter_ref_in(st, name, "exit_stall_cycles", "cycles", "cycles the exit stage waited for a full output FIFO",
             &u->exit_stall_cycles);
-        reg(st, name, "issue_stall_cycles", "cycles", "cycles issue waited for a full pipe", &u->issue_stall_cycles);
-        reg(st, name, "bank_stall_cycles", "cycles", "cycles issue waited for a primitive read spanning one bank twice",
+        ks_stat_counter_ref_in(st, name, "issue_stall_cycles", "cycles", "cycles issue waited for a full pipe", &u->issue_stall_cycles);
+        ks_stat_counter_ref_in(st, name, "bank_stall_cycles", "cycles", "cycles issue waited for a primitive read spanning one bank twice",
             &u->bank_stall_cycles);
-        reg(st, name, "flops", "FLOP", "FLOPs of issued tests (division = 11, paper sec. 3.2)", &u->flops);
+        ks_stat_counter_ref_in(st, name, "flops", "FLOP", "FLOPs of issued tests (division = 11, paper sec. 3.2)", &u->flops);
     }
     if (vcd) {
         char nm[160];

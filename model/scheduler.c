@@ -105,8 +105,7 @@ void sched_register(sched_unit *s, const char *name, ks_stats *st, ks_vcd *vcd)
     char nm[160];
 #define REG(stat, unit, desc, field)                                                                                    \
     do {                                                                                                               \
-        snprintf(nm, sizeof nm, "%s.%s", name, stat);                                                                 \
-        ks_stat_counter_ref(st, nm, unit, desc, &s->field);                                                           \
+        ks_stat_counter_ref_in(st, name, stat, unit, desc, &s->field);                                               \
     } while (0)
     if (st) {
         REG("admitted", "rays", "rays admitted", admitted);

@@ -120,47 +120,39 @@ void trv_set_events(trv_unit *t, accel_event_fn fn, void *user)
     t->core.ev_user = user;
 }
 
-static void reg(ks_stats *st, const char *name, const char *stat, const char *unit, const char *desc,
-                const uint64_t *v)
-{
-    char full[160];
-    snprintf(full, sizeof full, "%s.%s", name, stat);
-    ks_stat_counter_ref(st, full, unit, desc, v);
-}
-
 void trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd)
 {
     if (st) {
         trv_core_stats *c = &t->core.st;
         trv_stack_stats *s = &t->core.stack.st;
-        reg(st, name, "busy_cycles", "cycles", "cycles a ray was issued into the pipeline", &t->busy_cycles);
-        reg(st, name, "passes", "passes", "ray passes through the pipeline", &c->passes);
-        reg(st, name, "visits", "nodes", "node visits (committed)", &c->visits);
-        reg(st, name, "pop_passes", "passes", "passes that popped the stack", &c->pop_passes);
-        reg(st, name, "loops_miss", "passes", "passes invalidated by a node L1 miss (looping for next chance)",
+        ks_stat_counter_ref_in(st, name, "busy_cycles", "cycles", "cycles a ray was issued into the pipeline", &t->busy_cycles);
+        ks_stat_counter_ref_in(st, name, "passes", "passes", "ray passes through the pipeline", &c->passes);
+        ks_stat_counter_ref_in(st, name, "visits", "nodes", "node visits (committed)", &c->visits);
+        ks_stat_counter_ref_in(st, name, "pop_passes", "passes", "passes that popped the stack", &c->pop_passes);
+        ks_stat_counter_ref_in(st, name, "loops_miss", "passes", "passes invalidated by a node L1 miss (looping for next chance)",
             &c->loops_miss);
-        reg(st, name, "loops_blocked", "passes", "passes invalidated because the node L1 was blocked",
+        ks_stat_counter_ref_in(st, name, "loops_blocked", "passes", "passes invalidated because the node L1 was blocked",
             &c->loops_blocked);
-        reg(st, name, "box_tests", "tests", "slab tests of used child slots", &c->box_tests);
-        reg(st, name, "box_lanes", "tests", "slab test lanes active (N per visit)", &c->box_lanes);
-        reg(st, name, "sort_passes", "passes", "passes through the sorting network", &c->sort_passes);
-        reg(st, name, "sort_swaps", "swaps", "compare-exchanges that swapped", &c->sort_swaps);
-        reg(st, name, "stack_pushes", "entries", "stack entries written", &s->pushes);
-        reg(st, name, "stack_pops", "entries", "stack entries read (pops and culls)", &s->pops);
-        reg(st, name, "stack_ops", "operations", "stack operations (one per pass that touches the stack)", &s->ops);
-        reg(st, name, "stack_conflict_cycles", "cycles", "issue stalls from stack bank conflicts", &s->conflict_cycles);
-        reg(st, name, "culls", "entries", "stack entries discarded by the distance stack", &c->culls);
-        reg(st, name, "to_ist", "rays", "rays sent to the IST with a leaf", &c->to_ist);
-        reg(st, name, "done", "rays", "rays finished", &c->done);
-        reg(st, name, "stack_overflows", "rays", "rays whose stack overflowed", &c->overflows);
-        reg(st, name, "issue_new", "rays", "issues of new rays", &t->issue_new);
-        reg(st, name, "issue_ist", "rays", "issues of rays back from the IST", &t->issue_ist);
-        reg(st, name, "issue_loop", "rays", "issues of looping/continuing rays", &t->issue_loop);
-        reg(st, name, "exit_stall_cycles", "cycles", "cycles the exit stage waited for a full output FIFO",
+        ks_stat_counter_ref_in(st, name, "box_tests", "tests", "slab tests of used child slots", &c->box_tests);
+        ks_stat_counter_ref_in(st, name, "box_lanes", "tests", "slab test lanes active (N per visit)", &c->box_lanes);
+        ks_stat_counter_ref_in(st, name, "sort_passes", "passes", "passes through the sorting network", &c->sort_passes);
+        ks_stat_counter_ref_in(st, name, "sort_swaps", "swaps", "compare-exchanges that swapped", &c->sort_swaps);
+        ks_stat_counter_ref_in(st, name, "stack_pushes", "entries", "stack entries written", &s->pushes);
+        ks_stat_counter_ref_in(st, name, "stack_pops", "entries", "stack entries read (pops and culls)", &s->pops);
+        ks_stat_counter_ref_in(st, name, "stack_ops", "operations", "stack operations (one per pass that touches the stack)", &s->ops);
+        ks_stat_counter_ref_in(st, name, "stack_conflict_cycles", "cycles", "issue stalls from stack bank conflicts", &s->conflict_cycles);
+        ks_stat_counter_ref_in(st, name, "culls", "entries", "stack entries discarded by the distance stack", &c->culls);
+        ks_stat_counter_ref_in(st, name, "to_ist", "rays", "rays sent to the IST with a leaf", &c->to_ist);
+        ks_stat_counter_ref_in(st, name, "done", "rays", "rays finished", &c->done);
+        ks_stat_counter_ref_in(st, name, "stack_overflows", "rays", "rays whose stack overflowed", &c->overflows);
+        ks_stat_counter_ref_in(st, name, "issue_new", "rays", "issues of new rays", &t->issue_new);
+        ks_stat_counter_ref_in(st, name, "issue_ist", "rays", "issues of rays back from the IST", &t->issue_ist);
+        ks_stat_counter_ref_in(st, name, "issue_loop", "rays", "issues of looping/continuing rays", &t->issue_loop);
+        ks_stat_counter_ref_in(st, name, "exit_stall_cycles", "cycles", "cycles the exit stage waited for a full output FIFO",
             &t->exit_stall_cycles);
-        reg(st, name, "stack_stall_cycles", "cycles", "cycles issue waited for a multi-cycle stack operation",
+        ks_stat_counter_ref_in(st, name, "stack_stall_cycles", "cycles", "cycles issue waited for a multi-cycle stack operation",
             &t->stack_stall_cycles);
-        reg(st, name, "flops", "FLOP", "slab test FLOPs (all N lanes per visit)", &t->flops);
+        ks_stat_counter_ref_in(st, name, "flops", "FLOP", "slab test FLOPs (all N lanes per visit)", &t->flops);
     }
     if (vcd) {
         char nm[160];

@@ -154,8 +154,15 @@ static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admi
     for (int i = 0; i < 30; i++)
         bar[i] = i < bars ? '#' : '.';
     bar[30] = 0;
-    fprintf(stderr, "\r[%s] %3.0f%%  cycle %llu  rays %llu  ETA %.0fs   ", bar, 100.0 * frac,
-            (unsigned long long)cycle, (unsigned long long)done, eta);
+    /* The fraction is rays admitted over the primary-ray count: the number
+     * of bounce rays is only known once every path has ended, so past 100%
+     * the remaining time is unknown and no ETA is claimed. */
+    if (admitted >= p->total)
+        fprintf(stderr, "\r[%s] %3.0f%%  cycle %llu  rays %llu  finishing paths, ETA unknown   ", bar, 100.0 * frac,
+                (unsigned long long)cycle, (unsigned long long)done);
+    else
+        fprintf(stderr, "\r[%s] %3.0f%%  cycle %llu  rays %llu  ETA %.0fs   ", bar, 100.0 * frac,
+                (unsigned long long)cycle, (unsigned long long)done, eta);
     fflush(stderr);
 }
 

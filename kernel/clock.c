@@ -1,9 +1,11 @@
 /* clock.c — clocks and clocked processes with idle skipping (contract in
  * clock.h).
  *
- * Each clock keeps a bit per process: `awake` (step at the next tick) and
+ * Each clock keeps bits per process: `awake` (step at the next tick),
  * `woken` (woken for the next tick while a tick is running, merged after
- * it), plus a min-heap of timers (cycle, process) for wake-ups further ahead.
+ * it) and `wake_now` (woken by a delta/immediate notification during a
+ * tick: stepped in it when later in the order, else merged after it), plus
+ * a min-heap of timers (cycle, process) for wake-ups further ahead.
  * The clock itself is one entry in the sim's timed queue, at the next cycle
  * where any process is due; when none is, the clock is not scheduled at all,
  * so idle cycles cost nothing. When its next edge is also the next thing to
@@ -24,8 +26,13 @@ ks_clock *ks_clock_create(ks_sim *sim, const char *name, ks_time period)
                       (long long)period);
         return NULL;
     }
+    if (sim->n_clocks >= KS_CLOCK_KEY_RANGE) {
+        ks__set_error(sim, "clock '%s': more than %d clocks", name ? name : "?", KS_CLOCK_KEY_RANGE);
+        return NULL;
+    }
     ks_clock *c = ks__xcalloc(1, sizeof *c);
     c->sim = sim;
+    c->idx = (uint32_t)sim->n_clocks;
     c->name = ks__xstrdup(name ? name : "clk");
     c->period = period ? period : KS_DEFAULT_PERIOD_PS;
     c->stepper = ks__method_new(sim, c->name, clock_step, c);
@@ -50,6 +57,7 @@ void ks__clock_free(ks_clock *c)
     free(c->procs);
     free(c->awake);
     free(c->woken);
+    free(c->wake_now);
     free(c->timers);
     free(c->name);
     free(c);
@@ -72,7 +80,7 @@ uint64_t ks_clock_cycle_at_or_after(const ks_clock *c, ks_time t)
 int ks__clock_any_awake(const ks_clock *c)
 {
     for (uint32_t w = 0; w < c->n_words; w++)
-        if (c->awake[w] | c->woken[w])
+        if (c->awake[w] | c->woken[w] | c->wake_now[w])
             return 1;
     return 0;
 }
@@ -84,16 +92,16 @@ static void schedule_tick(ks_clock *c, uint64_t cycle)
     ks_sim *sim = c->sim;
     c->scheduled = 1;
     c->sched_cycle = cycle;
-    c->tick_key = ks__next_key(sim, KS_K_CLOCK);
     ks_time t = ks_clock_time_of(c, cycle);
     if (t < sim->now)
         t = sim->now; /* cannot happen for cycle >= next_min; defensive */
-    ks__heap_push(sim, t, c->tick_key, c);
+    ks__heap_push(sim, t, ((uint64_t)c->idx << 2) | KS_K_CLOCK, c);
 }
 
 void ks__clock_tick_entry(ks_clock *c, uint64_t key)
 {
-    if (!c->scheduled || c->tick_key != key)
+    (void)key; /* fixed per clock: an entry is current when its time is the scheduled edge's */
+    if (!c->scheduled || ks_clock_time_of(c, c->sched_cycle) != c->sim->now)
         return; /* superseded by an earlier reschedule */
     ks__make_runnable(c->sim, c->stepper);
 }
@@ -143,6 +151,61 @@ static void timer_pop(ks_clock *c)
 
 /* ---- waking ---- */
 
+/* Before the clock's scheduled tick moves earlier: the processes woken for
+ * it must still step at that later cycle, so their woken bits become
+ * timers. */
+static void keep_woken_for_scheduled_tick(ks_clock *c)
+{
+    if (!c->scheduled)
+        return;
+    for (uint32_t w = 0; w < c->n_words; w++)
+        for (uint64_t m = c->woken[w]; m; m &= m - 1) {
+            uint32_t idx = w * 64 + (uint32_t)__builtin_ctzll(m);
+            ks_clocked *q = c->procs[idx];
+            if (q->last_timer != c->sched_cycle) {
+                q->last_timer = c->sched_cycle;
+                timer_push(c, c->sched_cycle, idx);
+            }
+        }
+}
+
+/* Process p's clock has an edge (cycle k) at now that it has not ticked,
+ * and the clock ticking now precedes it in creation order: in the
+ * exhaustive mode it would tick after that one in this evaluation phase,
+ * so it does, with p awake. Its stepper goes into the run list right after
+ * the ticking clock's and the steppers of clocks created before it. */
+static void tick_later_in_this_edge(ks_clocked *p, uint64_t k)
+{
+    ks_clock *c = p->clk;
+    ks_sim *sim = c->sim;
+    if (c->scheduled && c->sched_cycle == k) {
+        /* its entry fired with the ticking clock's: the stepper is runnable */
+        c->woken[p->idx >> 6] |= p->bit;
+        return;
+    }
+    keep_woken_for_scheduled_tick(c);
+    c->woken[p->idx >> 6] |= p->bit;
+    c->scheduled = 1;
+    c->sched_cycle = k; /* a queued entry for the old cycle is now stale */
+    ks_method *st = c->stepper;
+    if (st->runnable)
+        return;
+    size_t j = 0;
+    while (j < sim->n_run && sim->run[j] != sim->ticking->stepper)
+        j++;
+    for (j++; j < sim->n_run; j++) {
+        const ks_clock *o = sim->run[j]->clock;
+        if (!o || o->idx > c->idx)
+            break;
+    }
+    if (sim->n_run == sim->cap_run)
+        ks__grow_run(sim);
+    memmove(&sim->run[j + 1], &sim->run[j], (sim->n_run - j) * sizeof *sim->run);
+    sim->run[j] = st;
+    sim->n_run++;
+    st->runnable = 1;
+}
+
 static void wake_cycle(ks_clocked *p, uint64_t k)
 {
     ks_clock *c = p->clk;
@@ -160,18 +223,7 @@ static void wake_cycle(ks_clocked *p, uint64_t k)
         return;
     }
     if (!c->scheduled || k < c->sched_cycle) {
-        /* the processes woken for the tick being moved earlier must still
-         * step at that later cycle: turn their woken bits into timers */
-        if (c->scheduled)
-            for (uint32_t w = 0; w < c->n_words; w++)
-                for (uint64_t m = c->woken[w]; m; m &= m - 1) {
-                    uint32_t idx = w * 64 + (uint32_t)__builtin_ctzll(m);
-                    ks_clocked *q = c->procs[idx];
-                    if (q->last_timer != c->sched_cycle) {
-                        q->last_timer = c->sched_cycle;
-                        timer_push(c, c->sched_cycle, idx);
-                    }
-                }
+        keep_woken_for_scheduled_tick(c);
         schedule_tick(c, k);
     }
     if (k == c->sched_cycle)
@@ -185,12 +237,23 @@ static void wake_cycle(ks_clocked *p, uint64_t k)
 void ks__clocked_wake_after_now(ks_clocked *p)
 {
     ks_clock *c = p->clk;
-    ks_time now = c->sim->now;
+    ks_sim *sim = c->sim;
+    ks_time now = sim->now;
     uint64_t k;
-    if (c->started && now == c->cur_time)
+    if (c->in_tick) { /* in this tick if p steps later in it, else the next */
+        c->wake_now[p->idx >> 6] |= p->bit;
+        return;
+    }
+    if (c->started && now == c->cur_time) {
         k = c->cur_cycle + 1;
-    else
-        k = (uint64_t)(now / c->period) + 1;
+    } else {
+        k = (uint64_t)(now / c->period);
+        if (now % c->period == 0 && sim->ticking && sim->ticking->idx < c->idx) {
+            tick_later_in_this_edge(p, k);
+            return;
+        }
+        k++;
+    }
     wake_cycle(p, k);
 }
 
@@ -230,13 +293,14 @@ ks_clocked *ks_clocked_create(ks_clock *c, const char *name, ks_step_fn step, vo
     if (words > c->n_words) {
         c->awake = ks__xrealloc(c->awake, words * sizeof *c->awake);
         c->woken = ks__xrealloc(c->woken, words * sizeof *c->woken);
-        c->awake[words - 1] = c->woken[words - 1] = 0;
+        c->wake_now = ks__xrealloc(c->wake_now, words * sizeof *c->wake_now);
+        c->awake[words - 1] = c->woken[words - 1] = c->wake_now[words - 1] = 0;
         c->n_words = words;
         for (uint32_t i = 0; i < c->n_procs; i++)
-            c->procs[i]->woken_word = &c->woken[i >> 6];
+            c->procs[i]->now_word = &c->wake_now[i >> 6];
     }
     p->bit = (uint64_t)1 << (p->idx & 63);
-    p->woken_word = &c->woken[p->idx >> 6];
+    p->now_word = &c->wake_now[p->idx >> 6];
     sim->n_clocked++;
     /* Starts awake at the first edge at or after now that has not ticked. */
     uint64_t k = ks_clock_cycle_at_or_after(c, sim->now);
@@ -301,6 +365,20 @@ static inline __attribute__((always_inline)) uint64_t step_one(ks_clock *c, ks_c
     return r > 0 ? (uint64_t)r : 0;
 }
 
+/* Exhaustive mode: is anything besides clock c still to happen (another
+ * clock's awake process or timer, or a timed entry of a method or event)?
+ * While so, c ticks every cycle; when not, the simulation is over unless a
+ * wake-up restarts it, as with idle skipping. */
+static int sim_has_other_work(ks_sim *sim, const ks_clock *c)
+{
+    for (size_t i = 0; i < sim->n_clocks; i++) {
+        const ks_clock *o = sim->clocks[i];
+        if (o != c && (o->n_timers || ks__clock_any_awake(o)))
+            return 1;
+    }
+    return ks__queue_has_non_clock(sim);
+}
+
 /* One tick at `cycle` (time sim->now); returns the next cycle to tick or
  * UINT64_MAX. */
 static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
@@ -311,6 +389,7 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
     c->next_min = cycle + 1;
     c->started = 1;
     c->in_tick = 1;
+    sim->ticking = c;
     c->ticks++;
     uint32_t nw = c->n_words;
     while (c->n_timers && c->timers[0].cycle <= cycle) {
@@ -321,8 +400,8 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
         timer_pop(c);
     }
     for (uint32_t w = 0; w < nw; w++) {
-        c->awake[w] |= c->woken[w];
-        c->woken[w] = 0;
+        c->awake[w] |= c->woken[w] | c->wake_now[w];
+        c->woken[w] = c->wake_now[w] = 0;
     }
     uint64_t progress = 0, steps = 0;
     if (c->exhaustive) {
@@ -332,12 +411,22 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
     } else {
         ks_clocked **procs = c->procs;
         for (uint32_t w = 0; w < nw; w++) {
-            uint64_t bits = c->awake[w];
+            /* processes of this word woken (delta/immediate) by the steps
+             * of earlier words come later in the order: they step now */
+            uint64_t bits = c->awake[w] |= c->wake_now[w];
+            c->wake_now[w] = 0;
             while (bits) {
-                uint32_t i = (w << 6) | (uint32_t)__builtin_ctzll(bits);
-                bits &= bits - 1;
-                progress += step_one(c, procs[i], cycle, 0);
+                uint32_t b = (uint32_t)__builtin_ctzll(bits);
+                progress += step_one(c, procs[(w << 6) | b], cycle, 0);
                 steps++;
+                bits &= bits - 1;
+                /* and those this step woke later in the word */
+                uint64_t later = c->wake_now[w] & (~(uint64_t)1 << b);
+                if (later) {
+                    c->wake_now[w] &= ~later;
+                    c->awake[w] |= later;
+                    bits |= later;
+                }
             }
         }
     }
@@ -347,19 +436,22 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
         sim->last_progress = sim->now;
     }
     c->in_tick = 0;
+    sim->ticking = NULL;
     if (c->posedge.n_statics || c->posedge.dyn_head)
         ks_event_notify(&c->posedge);
     int any = 0;
-    for (uint32_t w = 0; w < nw; w++) {
-        c->awake[w] |= c->woken[w];
-        c->woken[w] = 0;
+    for (uint32_t w = 0; w < nw; w++) { /* woken for the next cycle */
+        c->awake[w] |= c->woken[w] | c->wake_now[w];
+        c->woken[w] = c->wake_now[w] = 0;
         any |= c->awake[w] != 0;
     }
     uint64_t next = UINT64_MAX;
     if (any || c->posedge.n_statics)
         next = cycle + 1;
+    else if (c->exhaustive)
+        next = c->n_timers || sim_has_other_work(sim, c) ? cycle + 1 : UINT64_MAX;
     else if (c->n_timers)
-        next = c->exhaustive ? cycle + 1 : c->timers[0].cycle;
+        next = c->timers[0].cycle;
     return next;
 }
 

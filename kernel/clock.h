@@ -6,7 +6,15 @@
  *  - A clocked process has a step function called at the edge of cycle k
  *    while it is awake: `int step(void *user, uint64_t cycle)` returns the
  *    progress it made (0 = nothing to do, ChampSim style). Processes of one
- *    clock are stepped in creation order, inside one evaluate phase.
+ *    clock are stepped in creation order, inside one evaluate phase; clocks
+ *    with an edge at the same time tick in creation order, before the
+ *    methods of that time.
+ *  - A step sees what earlier steps of the same edge did (a FIFO slot freed,
+ *    an item written with latency 0). So that idle skipping never changes
+ *    what a process sees, a delta/immediate wake-up (FIFO freed, latency-0
+ *    written, ks_clocked_wake) made by a step wakes the process in the same
+ *    edge when it steps later in that order (later on the same clock, or on
+ *    a later-created clock with an edge at that time), else at its next edge.
  *  - Idle skipping: a step returning 0 puts the process to sleep until an
  *    event it was registered on with ks_clocked_wake_on() is notified, or
  *    an explicit wake (ks_clocked_wake / _wake_at_cycle), or the cycle given
@@ -47,8 +55,11 @@ uint64_t ks_clock_ticks(const ks_clock *clk);
 /* Edge time of cycle k, and the first cycle whose edge is at or after t. */
 ks_time ks_clock_time_of(const ks_clock *clk, uint64_t cycle);
 uint64_t ks_clock_cycle_at_or_after(const ks_clock *clk, ks_time t);
-/* Reference mode: every process is stepped every cycle, sleeps ignored.
- * The clock then ticks until the run's time limit (or stop/deadlock). */
+/* Reference mode: every process is stepped every cycle, sleeps ignored,
+ * as long as anything is left to happen in the simulation (a process awake
+ * or with a timer on any clock, a timed method or event entry); when
+ * nothing is, the clock stops as with idle skipping and a wake-up restarts
+ * it. Results must equal idle skipping's (tb_kernel_clock_* tests). */
 void ks_clock_set_exhaustive(ks_clock *clk, int on);
 ks_event *ks_clock_posedge(ks_clock *clk);
 

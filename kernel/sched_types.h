@@ -59,7 +59,7 @@ struct ks_clocked {
     void *user;
     uint32_t idx;
     uint64_t bit;              /* 1 << (idx & 63) */
-    uint64_t *woken_word;      /* &clk->woken[idx >> 6] */
+    uint64_t *now_word;        /* &clk->wake_now[idx >> 6] */
     uint8_t slept;             /* sleep_until_cycle called in this step */
     uint64_t sleep_until;
     uint64_t last_timer;       /* cycle of the last timer pushed (dedupe) */
@@ -83,7 +83,12 @@ struct ks_clock {
     ks_method *stepper;
     ks_clocked **procs;
     uint32_t n_procs, cap_procs;
-    uint64_t *awake, *woken;   /* bit per process */
+    /* Bit per process: awake = step at the tick being run or the next one;
+     * woken = woken during a tick for the next cycle; wake_now = woken
+     * during a tick by a delta/immediate notification: steps in this tick
+     * when it comes later in the step order than the waker, else next cycle
+     * (exactly as stepping every process every cycle would see it). */
+    uint64_t *awake, *woken, *wake_now;
     uint32_t n_words;
     ks_timer *timers;          /* min-heap on (cycle, idx) */
     uint32_t n_timers, cap_timers;
@@ -92,7 +97,7 @@ struct ks_clock {
     ks_time next_time;         /* edge time of cur_cycle + 1 */
     uint64_t next_min;         /* first cycle that may still tick */
     uint64_t sched_cycle;      /* next tick, valid when scheduled */
-    uint64_t tick_key;
+    uint32_t idx;              /* creation order: coincident edges tick in it */
     uint8_t scheduled, in_tick, exhaustive, started;
     uint64_t ticks;
     ks_event posedge;
@@ -140,6 +145,7 @@ struct ks_sim {
     ks_signal **signals;
     size_t n_signals, cap_signals;
     size_t n_clocked;
+    ks_clock *ticking;         /* the clock whose processes are stepping */
     uint64_t deltas, activations, progress;
     ks_time last_progress;
     uint64_t dl_cycles;
@@ -173,7 +179,7 @@ static inline void ks__wake_clocked_next(const ks_event *ev)
     if (ev->n_clocked == 1) { /* the usual case: one consumer or producer */
         ks_clocked *p = ev->clocked[0];
         if (p->clk->in_tick)
-            *p->woken_word |= p->bit;
+            *p->now_word |= p->bit;
         else
             ks__clocked_wake_after_now(p);
         return;
@@ -182,7 +188,7 @@ static inline void ks__wake_clocked_next(const ks_event *ev)
         ks_clocked *p = ev->clocked[i];
         ks_clock *c = p->clk;
         if (c->in_tick)
-            *p->woken_word |= p->bit;
+            *p->now_word |= p->bit;
         else
             ks__clocked_wake_after_now(p);
     }
@@ -195,7 +201,7 @@ static inline void ks__wake_clocked_at(const ks_event *ev, ks_time t)
         ks_clocked *p = ev->clocked[0];
         ks_clock *c = p->clk;
         if (c->in_tick && t == c->next_time)
-            *p->woken_word |= p->bit;
+            c->woken[p->idx >> 6] |= p->bit;
         else
             ks__clocked_wake_at_time(p, t);
         return;
@@ -204,7 +210,7 @@ static inline void ks__wake_clocked_at(const ks_event *ev, ks_time t)
         ks_clocked *p = ev->clocked[i];
         ks_clock *c = p->clk;
         if (c->in_tick && t == c->next_time)
-            *p->woken_word |= p->bit;
+            c->woken[p->idx >> 6] |= p->bit;
         else
             ks__clocked_wake_at_time(p, t);
     }
@@ -217,6 +223,11 @@ static inline void ks__event_refresh(ks_event *ev)
         ev->n_clocked == 1 && !ev->has_methods && ev->no_record ? ev->clocked[0] : NULL;
 }
 
+/* Keys of clock-tick entries are (clock index << 2) | KS_K_CLOCK, below
+ * every other key, so the edges due at one time tick in clock creation
+ * order before any other entry of that time; sequence numbers of the other
+ * entries start above that range. */
+enum { KS_CLOCK_KEY_RANGE = 1 << 24 };
 static inline uint64_t ks__next_key(ks_sim *sim, unsigned kind) { return (++sim->seq << 2) | kind; }
 
 /* Is the event's pending notification still ahead? (An unqueued one,
@@ -241,7 +252,7 @@ static inline __attribute__((always_inline)) void ks__event_notify_delta(ks_even
     ks_clocked *only = ev->only_clocked;
     if (only) {
         if (only->clk->in_tick)
-            *only->woken_word |= only->bit;
+            *only->now_word |= only->bit;
         else
             ks__clocked_wake_after_now(only);
         return;
@@ -280,7 +291,7 @@ static inline __attribute__((always_inline)) void ks__event_notify_at(ks_event *
     if (only) {
         ks_clock *c = only->clk;
         if (c->in_tick && when == c->next_time)
-            *only->woken_word |= only->bit;
+            c->woken[only->idx >> 6] |= only->bit;
         else
             ks__clocked_wake_at_time(only, when);
         return;

@@ -63,6 +63,7 @@ ks_sim *ks_sim_create(void)
 {
     ks_sim *sim = ks__xcalloc(1, sizeof *sim);
     sim->dl_cycles = 100000;
+    sim->seq = KS_CLOCK_KEY_RANGE;
     sim->q = ks__xcalloc(KS_Q_BUCKETS, sizeof *sim->q);
     sim->report = ks__xstrdup("");
     return sim;
@@ -137,8 +138,9 @@ const char *ks_run_status_name(ks_run_status st)
  * q_last, and its entries are redistributed to lower buckets (each entry
  * moves at most 8 times; for delays below 2^24 ps, two or three). Keys are
  * drawn from a counter at push time, so entries pushed at time q_last
- * arrive in key order; entries redistributed into q_now are sorted by key
- * first. The result is the exact (time, key) order of a heap at a fraction
+ * arrive in key order, except clock ticks, whose fixed keys sort below all
+ * others (sched_types.h) and are moved to their place; entries
+ * redistributed into q_now are sorted by key first. The result is the exact (time, key) order of a heap at a fraction
  * of its cost. A push before q_last (possible after a run stopped at its
  * time limit looked beyond it, or on an empty queue) re-buckets everything
  * around the new minimum. */
@@ -196,6 +198,15 @@ void ks__heap_push(ks_sim *sim, ks_time t, uint64_t key, void *obj)
     sim->n_heap++;
     if (t == sim->q_last) {
         q_append_to(&sim->q_now, e);
+        /* keys arrive in increasing order except a clock tick's (small,
+         * fixed) key: move it down to its place among the pending ones */
+        ks_qentry *q = sim->q_now.e;
+        uint32_t j = sim->q_now.n - 1;
+        while (j > sim->q_head0 && q[j - 1].key > key) {
+            q[j] = q[j - 1];
+            j--;
+        }
+        q[j] = e;
         return;
     }
     if (sim->n_heap == 1) { /* empty: e is the minimum */
@@ -274,6 +285,19 @@ static inline ks_qentry *q_min(ks_sim *sim)
 int ks__queue_clear_until(ks_sim *sim, ks_time t)
 {
     return sim->n_heap == 0 || q_min(sim)->t > t;
+}
+
+int ks__queue_has_non_clock(ks_sim *sim)
+{
+    for (uint32_t i = sim->q_head0; i < sim->q_now.n; i++)
+        if (sim->q_now.e[i].obj && (sim->q_now.e[i].key & 3) != KS_K_CLOCK)
+            return 1;
+    for (unsigned b = 0; b < KS_Q_BUCKETS; b++)
+        if (sim->q_nonempty[b >> 6] >> (b & 63) & 1)
+            for (uint32_t i = 0; i < sim->q[b].n; i++)
+                if (sim->q[b].e[i].obj && (sim->q[b].e[i].key & 3) != KS_K_CLOCK)
+                    return 1;
+    return 0;
 }
 
 static inline void q_pop(ks_sim *sim)

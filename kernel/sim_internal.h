@@ -39,6 +39,9 @@ void ks__set_error(ks_sim *sim, const char *fmt, ...);
 void ks__heap_push(ks_sim *sim, ks_time t, uint64_t key, void *obj);
 /* 1 when no timed entry is due at or before t. */
 int ks__queue_clear_until(ks_sim *sim, ks_time t);
+/* 1 when a timed entry other than a clock tick is queued (a method
+ * timeout or a timed notification, possibly stale). */
+int ks__queue_has_non_clock(ks_sim *sim);
 /* Voids the queued entries pointing at obj (it is being destroyed). */
 void ks__queue_forget(ks_sim *sim, const void *obj);
 void ks__delta_push(ks_sim *sim, void *obj, uint64_t key);

@@ -532,10 +532,14 @@ static void lpddr3_sweep(const rt_scene *sc, unsigned scene_index, bool full, bo
         eq.memory = "lpddr3";
         eq.tag = "lpddr3";
         check_idle_skip_equivalence(sc, eq, tot);
+        /* stress_small has a 1-entry DRAM response FIFO: the accelerator's
+         * read frees it at edges shared with the DRAM clock, where the DRAM
+         * port must see the slot at once (kernel/clock.h, coincident edges);
+         * before that kernel fix these runs differed by a DRAM cycle */
         for (int m = 0; m < 2; m++) {
             case_spec st = {.preset = presets[m], .memory = "lpddr3", .diffuse = true, .w = small ? 8 : 24,
                             .h = small ? 5 : 14, .seed = 1, .extra = stress_small, .tag = "small"};
-            check_spec(sc, &st, tot, NULL);
+            check_idle_skip_equivalence(sc, st, tot);
         }
         return;
     }

@@ -1,11 +1,12 @@
 /* clock.c — clocks and clocked processes with idle skipping (contract in
  * clock.h).
  *
- * Each clock keeps bits per process: `awake` (step at the next tick),
+ * Each clock keeps bits per process: `awake` (step at the next tick; a
+ * delta/immediate wake-up during a tick sets it for a process later in the
+ * order than the one stepping, which the tick's scan then reaches) and
  * `woken` (woken for the next tick while a tick is running, merged after
- * it) and `wake_now` (woken by a delta/immediate notification during a
- * tick: stepped in it when later in the order, else merged after it), plus
- * a min-heap of timers (cycle, process) for wake-ups further ahead.
+ * it), plus a min-heap of timers (cycle, process) for wake-ups further
+ * ahead.
  * The clock itself is one entry in the sim's timed queue, at the next cycle
  * where any process is due; when none is, the clock is not scheduled at all,
  * so idle cycles cost nothing. When its next edge is also the next thing to
@@ -57,7 +58,6 @@ void ks__clock_free(ks_clock *c)
     free(c->procs);
     free(c->awake);
     free(c->woken);
-    free(c->wake_now);
     free(c->timers);
     free(c->name);
     free(c);
@@ -80,7 +80,7 @@ uint64_t ks_clock_cycle_at_or_after(const ks_clock *c, ks_time t)
 int ks__clock_any_awake(const ks_clock *c)
 {
     for (uint32_t w = 0; w < c->n_words; w++)
-        if (c->awake[w] | c->woken[w] | c->wake_now[w])
+        if (c->awake[w] | c->woken[w])
             return 1;
     return 0;
 }
@@ -241,7 +241,7 @@ void ks__clocked_wake_after_now(ks_clocked *p)
     ks_time now = sim->now;
     uint64_t k;
     if (c->in_tick) { /* in this tick if p steps later in it, else the next */
-        c->wake_now[p->idx >> 6] |= p->bit;
+        ks__clocked_wake_in_tick(p);
         return;
     }
     if (c->started && now == c->cur_time) {
@@ -293,14 +293,17 @@ ks_clocked *ks_clocked_create(ks_clock *c, const char *name, ks_step_fn step, vo
     if (words > c->n_words) {
         c->awake = ks__xrealloc(c->awake, words * sizeof *c->awake);
         c->woken = ks__xrealloc(c->woken, words * sizeof *c->woken);
-        c->wake_now = ks__xrealloc(c->wake_now, words * sizeof *c->wake_now);
-        c->awake[words - 1] = c->woken[words - 1] = c->wake_now[words - 1] = 0;
+        c->awake[words - 1] = c->woken[words - 1] = 0;
         c->n_words = words;
         for (uint32_t i = 0; i < c->n_procs; i++)
-            c->procs[i]->now_word = &c->wake_now[i >> 6];
+        {
+            c->procs[i]->awake_word = &c->awake[i >> 6];
+            c->procs[i]->woken_word = &c->woken[i >> 6];
+        }
     }
     p->bit = (uint64_t)1 << (p->idx & 63);
-    p->now_word = &c->wake_now[p->idx >> 6];
+    p->awake_word = &c->awake[p->idx >> 6];
+    p->woken_word = &c->woken[p->idx >> 6];
     sim->n_clocked++;
     /* Starts awake at the first edge at or after now that has not ticked. */
     uint64_t k = ks_clock_cycle_at_or_after(c, sim->now);
@@ -347,6 +350,7 @@ static inline __attribute__((always_inline)) uint64_t step_one(ks_clock *c, ks_c
                                                                 uint64_t cycle, int exhaustive)
 {
     p->slept = 0;
+    c->stepping = p->idx;
     int r = p->step(p->user, cycle);
     p->steps++;
     if (r > 0) {
@@ -400,8 +404,8 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
         timer_pop(c);
     }
     for (uint32_t w = 0; w < nw; w++) {
-        c->awake[w] |= c->woken[w] | c->wake_now[w];
-        c->woken[w] = c->wake_now[w] = 0;
+        c->awake[w] |= c->woken[w];
+        c->woken[w] = 0;
     }
     uint64_t progress = 0, steps = 0;
     if (c->exhaustive) {
@@ -411,21 +415,15 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
     } else {
         ks_clocked **procs = c->procs;
         for (uint32_t w = 0; w < nw; w++) {
-            /* processes of this word woken (delta/immediate) by the steps
-             * of earlier words come later in the order: they step now */
-            uint64_t bits = c->awake[w] |= c->wake_now[w];
-            c->wake_now[w] = 0;
+            uint64_t bits = c->awake[w];
             while (bits) {
                 uint32_t b = (uint32_t)__builtin_ctzll(bits);
                 progress += step_one(c, procs[(w << 6) | b], cycle, 0);
                 steps++;
                 bits &= bits - 1;
-                /* and those this step woke later in the word */
-                uint64_t later = c->wake_now[w] & (~(uint64_t)1 << b);
-                if (later) {
-                    c->wake_now[w] &= ~later;
-                    c->awake[w] |= later;
-                    bits |= later;
+                if (c->woke_later) { /* re-read: processes after b woken by it */
+                    c->woke_later = 0;
+                    bits = c->awake[w] & (~(uint64_t)1 << b);
                 }
             }
         }
@@ -441,8 +439,8 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
         ks_event_notify(&c->posedge);
     int any = 0;
     for (uint32_t w = 0; w < nw; w++) { /* woken for the next cycle */
-        c->awake[w] |= c->woken[w] | c->wake_now[w];
-        c->woken[w] = c->wake_now[w] = 0;
+        c->awake[w] |= c->woken[w];
+        c->woken[w] = 0;
         any |= c->awake[w] != 0;
     }
     uint64_t next = UINT64_MAX;

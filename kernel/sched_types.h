@@ -59,7 +59,8 @@ struct ks_clocked {
     void *user;
     uint32_t idx;
     uint64_t bit;              /* 1 << (idx & 63) */
-    uint64_t *now_word;        /* &clk->wake_now[idx >> 6] */
+    uint64_t *awake_word;      /* &clk->awake[idx >> 6] */
+    uint64_t *woken_word;      /* &clk->woken[idx >> 6] */
     uint8_t slept;             /* sleep_until_cycle called in this step */
     uint64_t sleep_until;
     uint64_t last_timer;       /* cycle of the last timer pushed (dedupe) */
@@ -83,12 +84,12 @@ struct ks_clock {
     ks_method *stepper;
     ks_clocked **procs;
     uint32_t n_procs, cap_procs;
-    /* Bit per process: awake = step at the tick being run or the next one;
-     * woken = woken during a tick for the next cycle; wake_now = woken
-     * during a tick by a delta/immediate notification: steps in this tick
-     * when it comes later in the step order than the waker, else next cycle
-     * (exactly as stepping every process every cycle would see it). */
-    uint64_t *awake, *woken, *wake_now;
+    /* Bit per process: awake = step at the tick being run (when later in
+     * the order than the process stepping) or the next one; woken = woken
+     * during a tick for the next cycle, merged after it. */
+    uint64_t *awake, *woken;
+    uint32_t stepping;         /* index of the process being stepped */
+    uint8_t woke_later;        /* it woke a process later in the order */
     uint32_t n_words;
     ks_timer *timers;          /* min-heap on (cycle, idx) */
     uint32_t n_timers, cap_timers;
@@ -163,6 +164,20 @@ void ks__clocked_wake_at_time(ks_clocked *p, ks_time t);
 void ks__grow_run(ks_sim *sim);
 void ks__grow_delta(ks_sim *sim);
 
+/* A delta/immediate wake-up made during a tick of p's clock: p steps in
+ * this tick when it comes later in the order than the process stepping
+ * (stepping every process every cycle, it would see the change now), else
+ * at the next edge. */
+static inline void ks__clocked_wake_in_tick(ks_clocked *p)
+{
+    ks_clock *c = p->clk;
+    if (p->idx > c->stepping) {
+        *p->awake_word |= p->bit;
+        c->woke_later = 1;
+    } else
+        *p->woken_word |= p->bit;
+}
+
 static inline void ks__make_runnable(ks_sim *sim, ks_method *m)
 {
     if (m->runnable)
@@ -179,7 +194,7 @@ static inline void ks__wake_clocked_next(const ks_event *ev)
     if (ev->n_clocked == 1) { /* the usual case: one consumer or producer */
         ks_clocked *p = ev->clocked[0];
         if (p->clk->in_tick)
-            *p->now_word |= p->bit;
+            ks__clocked_wake_in_tick(p);
         else
             ks__clocked_wake_after_now(p);
         return;
@@ -188,7 +203,7 @@ static inline void ks__wake_clocked_next(const ks_event *ev)
         ks_clocked *p = ev->clocked[i];
         ks_clock *c = p->clk;
         if (c->in_tick)
-            *p->now_word |= p->bit;
+            ks__clocked_wake_in_tick(p);
         else
             ks__clocked_wake_after_now(p);
     }
@@ -201,7 +216,7 @@ static inline void ks__wake_clocked_at(const ks_event *ev, ks_time t)
         ks_clocked *p = ev->clocked[0];
         ks_clock *c = p->clk;
         if (c->in_tick && t == c->next_time)
-            c->woken[p->idx >> 6] |= p->bit;
+            *p->woken_word |= p->bit;
         else
             ks__clocked_wake_at_time(p, t);
         return;
@@ -210,7 +225,7 @@ static inline void ks__wake_clocked_at(const ks_event *ev, ks_time t)
         ks_clocked *p = ev->clocked[i];
         ks_clock *c = p->clk;
         if (c->in_tick && t == c->next_time)
-            c->woken[p->idx >> 6] |= p->bit;
+            *p->woken_word |= p->bit;
         else
             ks__clocked_wake_at_time(p, t);
     }
@@ -252,7 +267,7 @@ static inline __attribute__((always_inline)) void ks__event_notify_delta(ks_even
     ks_clocked *only = ev->only_clocked;
     if (only) {
         if (only->clk->in_tick)
-            *only->now_word |= only->bit;
+            ks__clocked_wake_in_tick(only);
         else
             ks__clocked_wake_after_now(only);
         return;
@@ -291,7 +306,7 @@ static inline __attribute__((always_inline)) void ks__event_notify_at(ks_event *
     if (only) {
         ks_clock *c = only->clk;
         if (c->in_tick && when == c->next_time)
-            c->woken[only->idx >> 6] |= only->bit;
+            *only->woken_word |= only->bit;
         else
             ks__clocked_wake_at_time(only, when);
         return;

@@ -2,6 +2,7 @@
 #include "model/ist.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static const ks_desc_item ist_items[] = {
@@ -122,6 +123,17 @@ void ist_register(ist_unit *u, const char *name, ks_stats *st, ks_vcd *vcd)
         u->pipe.v_occ = ks_vcd_var_int(vcd, nm, 16, 0);
         snprintf(nm, sizeof nm, "%s.loop.occupancy", name);
         u->loop.v_occ = ks_vcd_var_int(vcd, nm, 16, 0);
+        const char **np = calloc(u->p.latency, sizeof *np);
+        char(*names)[16] = calloc(u->p.latency, sizeof *names);
+        if (np && names) {
+            for (uint32_t k = 0; k < u->p.latency; k++) {
+                snprintf(names[k], sizeof names[k], "test%u", k + 2); /* issue = test stage 1 */
+                np[k] = names[k];
+            }
+            pipe_trace_init(&u->stage_rays, vcd, name, u->p.latency, np);
+        }
+        free(np);
+        free(names);
     }
 }
 
@@ -194,6 +206,7 @@ static int ist_step(void *user, uint64_t cycle)
             if (u->v_issue_ray) {
                 ks_vcd_set(u->v_issue_ray, (uint64_t)u->cur);
                 ks_vcd_set(u->v_tri, tri);
+                pipe_trace_issue(&u->stage_rays, cycle, (uint32_t)u->cur);
             }
             if (res != IST_LOOP_MISS && res != IST_LOOP_BLOCKED && u->core.port_cycles > 1)
                 u->busy_until = cycle + u->core.port_cycles;   /* both lines in one bank */
@@ -209,6 +222,7 @@ static int ist_step(void *user, uint64_t cycle)
         ks_vcd_set(u->v_issue_ray, 0xFFFFFFFFu);
         ks_vcd_set(u->v_tri, 0xFFFFFFFFu);
     }
+    pipe_trace_update(&u->stage_rays, cycle);
     if (!progress) {
         uint64_t next = pipe_ring_next_exit(&u->pipe), c;
         if ((c = pipe_ring_next_exit(&u->loop)) < next)
@@ -216,6 +230,8 @@ static int ist_step(void *user, uint64_t cycle)
         for (uint32_t i = 0; i < u->ntrv; i++)
             if ((c = head_cycle(u->in[i], u->clk)) < next)
                 next = c;
+        if (pipe_trace_occupied(&u->stage_rays, cycle))
+            next = cycle + 1;   /* VCD on: the stage variables change every cycle */
         if (next != UINT64_MAX && next > cycle)
             ks_clocked_sleep_until_cycle(u->proc, next);
     }
@@ -226,4 +242,5 @@ void ist_free(ist_unit *u)
 {
     pipe_ring_free(&u->pipe);
     pipe_ring_free(&u->loop);
+    pipe_trace_free(&u->stage_rays);
 }

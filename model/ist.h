@@ -20,6 +20,7 @@
 #include "kernel/vcd.h"
 #include "model/ist_core.h"
 #include "model/pipe_ring.h"
+#include "model/pipe_trace.h"
 #include "model/trv.h"
 
 #define IST_MAX_TRV 64
@@ -43,6 +44,7 @@ typedef struct ist_unit {
     uint64_t busy_until, bank_stall_cycles;
     uint64_t busy_cycles, flops, rays_in_unit, exit_stall_cycles, issue_stall_cycles;
     ks_vcd_var *v_issue_ray, *v_tri, *v_exit_ray;
+    pipe_trace stage_rays;             /* the ray of the test in each stage */
 } ist_unit;
 
 extern const ks_module_desc ist_module_desc;

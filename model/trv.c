@@ -2,6 +2,7 @@
 #include "model/trv.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static const ks_desc_item trv_items[] = {
@@ -168,6 +169,25 @@ void trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd)
         t->pipe.v_occ = ks_vcd_var_int(vcd, nm, 16, 0);
         snprintf(nm, sizeof nm, "%s.loop.occupancy", name);
         t->loop.v_occ = ks_vcd_var_int(vcd, nm, 16, 0);
+        /* stage s of the pipeline (0 = issue = fetch1) by function, in the
+         * order of trv_pipeline_depth */
+        const sort_net *net = sort_net_get(t->p.core.width);
+        const struct { const char *fn; uint32_t n; } parts[] = {
+            {"fetch", t->p.stages_fetch}, {"box", t->p.stages_box}, {"sort", net ? (uint32_t)net->layers : 0},
+            {"stack", t->p.stages_stack}, {"next", t->p.stages_next}};
+        char(*names)[16] = calloc(t->depth, sizeof *names);
+        const char **np = calloc(t->depth, sizeof *np);
+        if (names && np) {
+            uint32_t s = 0;
+            for (unsigned i = 0; i < sizeof parts / sizeof parts[0]; i++)
+                for (uint32_t j = 1; j <= parts[i].n && s < t->depth; j++, s++)
+                    snprintf(names[s], sizeof names[s], "%s%u", parts[i].fn, j);
+            for (uint32_t k = 1; k < t->depth; k++)
+                np[k - 1] = names[k];
+            pipe_trace_init(&t->stage_rays, vcd, name, t->depth - 1, np);
+        }
+        free(names);
+        free(np);
     }
 }
 
@@ -176,6 +196,7 @@ void trv_free(trv_unit *t)
     trv_core_free(&t->core);
     pipe_ring_free(&t->pipe);
     pipe_ring_free(&t->loop);
+    pipe_trace_free(&t->stage_rays);
 }
 
 /* Earliest future cycle at which a FIFO head becomes readable (UINT64_MAX if none). */
@@ -257,8 +278,10 @@ static int trv_step(void *user, uint64_t cycle)
                 stack_cycles = t->core.fetch_cycles;   /* a node spanning two lines of one L1 bank */
             if (stack_cycles > 1)
                 t->busy_until = cycle + stack_cycles;
-            if (t->v_issue_ray)
+            if (t->v_issue_ray) {
                 ks_vcd_set(t->v_issue_ray, m.ray);
+                pipe_trace_issue(&t->stage_rays, cycle, m.ray);
+            }
             state = TRV_ST_ISSUE;
             progress++;
         } else if (t->v_issue_ray) {
@@ -268,6 +291,7 @@ static int trv_step(void *user, uint64_t cycle)
     if (t->v_state) {
         ks_vcd_set(t->v_state, (uint64_t)state);
         ks_vcd_set(t->v_rays, t->rays_in_unit);
+        pipe_trace_update(&t->stage_rays, cycle);
     }
     if (!progress) {
         /* sleep until the next input or pipe head becomes readable (events
@@ -280,6 +304,8 @@ static int trv_step(void *user, uint64_t cycle)
             next = c;
         if ((c = head_cycle(t->in_new, t->clk)) < next)
             next = c;
+        if (pipe_trace_occupied(&t->stage_rays, cycle))
+            next = cycle + 1;   /* VCD on: the stage variables change every cycle */
         if (next != UINT64_MAX && next > cycle)
             ks_clocked_sleep_until_cycle(t->proc, next);
     }

@@ -25,6 +25,7 @@
 #include "kernel/stats.h"
 #include "kernel/vcd.h"
 #include "model/pipe_ring.h"
+#include "model/pipe_trace.h"
 #include "model/trv_core.h"
 
 /* What travels on ray FIFOs: the index of the ray's record (accel_ray table;
@@ -62,6 +63,7 @@ typedef struct trv_unit {
     bool failed;             /* a ray overflowed its stack */
     /* VCD (NULL when off) */
     ks_vcd_var *v_issue_ray, *v_exit_ray, *v_state, *v_rays;
+    pipe_trace stage_rays;   /* the ray in each stage after issue */
 } trv_unit;
 
 extern const ks_module_desc trv_module_desc;
@@ -77,7 +79,8 @@ void trv_bind(trv_unit *t, ks_fifo *in_new, ks_fifo *in_ist, ks_fifo *out_ist, k
 void trv_set_probe(trv_unit *t, accel_probe_fn probe, void *ctx);
 void trv_set_events(trv_unit *t, accel_event_fn fn, void *user);
 /* Registers statistics under "<name>." and, when a VCD is open, the unit's
- * variables (state, ray ids at issue and exit, rays held). */
+ * variables (state, ray ids at issue, in each pipeline stage and at exit,
+ * rays held). */
 void trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd);
 void trv_free(trv_unit *t);
 

@@ -93,6 +93,62 @@ if grep -q '^\$scope module trv0 \$end' "$tmp/w.vcd" && grep -q 'state' "$tmp/w.
    && [ -z "$(awk '/^#/ { t = substr($1, 2) + 0; if (t < 200 || t > 800) print t }' "$tmp/w.vcd")" ]; then
   pass accel_cli_vcd_scopes_window
 else fail accel_cli_vcd_scopes_window "scopes or window wrong"; fi
+# the ray in each pipeline stage: a ray issued at cycle c is in stage k at
+# cycle c + k (TRV 0: box1..next1 after fetch1 = issue; IST: test2..); and
+# tracing changes no result
+"$bin" "$scene" --res 16x8 --machine mbvh4 --quiet --vcd "$tmp/s.vcd" --json "$tmp/s_vcd.json"
+"$bin" "$scene" --res 16x8 --machine mbvh4 --quiet --json "$tmp/s_novcd.json"
+if python3 - "$tmp/s.vcd" "$tmp/s_vcd.json" "$tmp/s_novcd.json" <<'PY'
+import json, re, sys
+vcd, with_vcd, without = sys.argv[1:4]
+ids, scope, names = {}, [], {}
+changes = {}  # id -> [(time, value)]
+t = 0
+for line in open(vcd):
+    w = line.split()
+    if not w:
+        continue
+    if w[0] == '$scope':
+        scope.append(w[2])
+    elif w[0] == '$upscope':
+        scope.pop()
+    elif w[0] == '$var':
+        names['.'.join(scope + [w[4]])] = w[3]
+    elif w[0].startswith('#'):
+        t = int(w[0][1:])
+    elif w[0].startswith('b'):
+        changes.setdefault(w[1], []).append((t, int(w[0][1:], 2) if 'x' not in w[0] else None))
+def at(name, time):
+    v = None
+    for (tt, vv) in changes.get(names[name], []):
+        if tt > time:
+            break
+        v = vv
+    return v
+period = 2  # ns per 500 MHz cycle ($timescale 1ns)
+none = 0xFFFFFFFF
+checked = 0
+for unit in ('trv0', 'ist'):
+    stages = sorted(n for n in names if n.startswith(unit + '.stage.'))
+    if not stages:
+        sys.exit('no stage variables for ' + unit)
+    for (tt, ray) in changes.get(names[unit + '.issue_ray'], []):
+        if ray is None or ray == none:
+            continue
+        for k, st in enumerate(stages, 1):
+            got = at(st, tt + k * period)
+            if got != ray:
+                sys.exit('%s: ray %d issued at %d ns, %s holds %s at %d ns' % (unit, ray, tt, st, got, tt + k * period))
+            checked += 1
+if checked < 100:
+    sys.exit('only %d stage checks' % checked)
+a, b = json.load(open(with_vcd)), json.load(open(without))
+strip = lambda d: {k: v for k, v in d.items() if not k.startswith('host')}
+if strip(a) != strip(b):
+    sys.exit('statistics differ with the VCD on')
+PY
+then pass accel_cli_vcd_ray_in_each_stage
+else fail accel_cli_vcd_ray_in_each_stage "stage variables wrong (see above)"; fi
 "$bin" "$scene" --res 16x8 --quiet --vcd "$tmp/f.vcd" --vcd-filter 'trv0.*'
 if grep -q 'module trv0' "$tmp/f.vcd" && ! grep -q 'module trv1' "$tmp/f.vcd" && ! grep -q 'module ist' "$tmp/f.vcd"; then
   pass accel_cli_vcd_filter

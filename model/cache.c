@@ -273,9 +273,17 @@ static cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_
             return CACHE_BLOCKED;
         }
     }
-    if (need_new > (int)c->p.mshrs - c->mshr_busy) {
-        c->st.blocked_mshr++;
-        return CACHE_BLOCKED;
+    /* All or nothing, except that a probe needing more new lines than the
+     * cache has MSHRs at all (a 48-byte triangle over two missing lines with
+     * one MSHR) could never be accepted and would loop forever: it takes the
+     * free MSHRs for its first missing lines and retries for the rest. */
+    int free_mshrs = (int)c->p.mshrs - c->mshr_busy, alloc_new = need_new;
+    if (need_new > free_mshrs) {
+        if (req || need_new <= (int)c->p.mshrs || free_mshrs == 0) {
+            c->st.blocked_mshr++;
+            return CACHE_BLOCKED;
+        }
+        alloc_new = free_mshrs;
     }
     if (req && missing && c->free_waiter < 0) {
         c->st.blocked_merge++;
@@ -316,6 +324,9 @@ static cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_
         if (k >= 0) {
             c->st.merged++;
         } else {
+            if (alloc_new == 0)
+                continue; /* the partial probe above: the rest next time */
+            alloc_new--;
             k = free_mshr(c);
             mshr *m = &c->m[k];
             m->busy = true;

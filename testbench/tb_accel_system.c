@@ -465,6 +465,9 @@ static const char *const stress_tiny[] = {
     "prim.mshr_merge=1", "fifo.mem_l1_miss=1", "fifo.mem_l1_fill=1", "fifo.mem_l2_req=1", "fifo.mem_l2_resp=1",
     "fifo.mem_l2_miss=1", "fifo.mem_l2_fill=1", "fifo.mem_prim_miss=1", "fifo.mem_prim_fill=1", "fifo.mem_req=1",
     "fifo.mem_resp=1", "fifo.mem_dram_req=1", "fifo.mem_dram_resp=1", "memory.max_outstanding=1", NULL};
+/* One MSHR in every cache: a triangle over two missing lines used to loop
+ * forever in the primitive cache (all-or-nothing probes; model/cache.h) */
+static const char *const stress_one_mshr[] = {"node_l1.mshrs=1", "node_l2.mshrs=1", "prim.mshrs=1", NULL};
 static const char *const stress_small[] = {
     "node_l1.mshrs=2", "node_l2.mshrs=2", "prim.mshrs=2", "prim.mshr_merge=2", "fifo.mem_req=2", "fifo.mem_resp=2",
     "fifo.mem_dram_req=2", "fifo.mem_dram_resp=1", "fifo.mem_prim_fill=1", "fifo.mem_l2_fill=1",
@@ -532,6 +535,11 @@ static void lpddr3_sweep(const rt_scene *sc, unsigned scene_index, bool full, bo
         eq.memory = "lpddr3";
         eq.tag = "lpddr3";
         check_idle_skip_equivalence(sc, eq, tot);
+        for (int m = 0; m < 2; m++) {
+            case_spec one = {.preset = presets[m], .memory = "lpddr3", .diffuse = true, .w = small ? 8 : 24,
+                             .h = small ? 5 : 14, .seed = 1, .extra = stress_one_mshr, .tag = "one_mshr"};
+            check_spec(sc, &one, tot, NULL);
+        }
         /* stress_small has a 1-entry DRAM response FIFO: the accelerator's
          * read frees it at edges shared with the DRAM clock, where the DRAM
          * port must see the slot at once (kernel/clock.h, coincident edges);

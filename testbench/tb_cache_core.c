@@ -110,6 +110,34 @@ static void test_mshr_exhaustion(void)
     tb_end();
 }
 
+/* One MSHR and a probe over two missing lines: all-or-nothing could never
+ * accept it (the ray would loop forever, as the primitive cache did with
+ * prim.mshrs=1), so it takes the free MSHR for its first line and the
+ * second on a later try. */
+static void test_partial_probe_one_mshr(void)
+{
+    tb_begin("one_mshr_two_line_probe_progresses_line_by_line");
+    cache *c = mk(1024, 64, 4, 2, 1, 1, 4);
+    TB_EQ_INT(cache_access(c, 0x030, 48, 0), CACHE_MISS); /* lines 0x00 and 0x40, two banks */
+    TB_CHECK(cache_line_pending(c, 0x000) && !cache_line_pending(c, 0x040), "first line requested only");
+    TB_EQ_INT(cache_access(c, 0x030, 48, 1), CACHE_BLOCKED); /* its one MSHR is busy */
+    TB_EQ_INT(serve_one(c, 2), 0);
+    TB_EQ_INT(cache_access(c, 0x030, 48, 3), CACHE_MISS);   /* now the second line */
+    TB_CHECK(cache_contains(c, 0x000) && cache_line_pending(c, 0x040), "second line requested");
+    TB_EQ_INT(serve_one(c, 4), 0);
+    TB_EQ_INT(cache_access(c, 0x030, 48, 5), CACHE_HIT);
+    /* requests (waiters need all their lines at once) stay all-or-nothing */
+    mem_req q = {.addr = 0x130, .bytes = 48, .tag = 7};
+    TB_EQ_INT(cache_request(c, &q, 6), CACHE_BLOCKED);
+    TB_EQ_INT(cache_mshrs_busy(c), 0);
+    cache_stats s;
+    cache_get_stats(c, &s);
+    TB_EQ_INT(s.miss_lines, 2);
+    TB_EQ_INT(s.blocked_mshr, 2);
+    cache_destroy(c);
+    tb_end();
+}
+
 static void test_request_waiters(void)
 {
     tb_begin("request_mode_waiters_and_merge_limit");
@@ -344,9 +372,15 @@ static cache_result ref_access(ref *r, uint64_t addr, uint32_t bytes, int64_t no
                 return CACHE_BLOCKED;
             }
         }
-    if (fresh > (int)r->mshrs - r->npend - r->nsent) {
-        r->st.blocked_mshr++;
-        return CACHE_BLOCKED;
+    int free_mshrs = (int)r->mshrs - r->npend - r->nsent, alloc = fresh;
+    if (fresh > free_mshrs) {
+        /* a probe that needs more new lines than there are MSHRs at all
+         * takes the free ones for its first lines (cache.h) */
+        if (tag || fresh <= (int)r->mshrs || free_mshrs == 0) {
+            r->st.blocked_mshr++;
+            return CACHE_BLOCKED;
+        }
+        alloc = free_mshrs;
     }
     r->used_ports++;
     int maxcyc = 1;
@@ -382,7 +416,8 @@ static cache_result ref_access(ref *r, uint64_t addr, uint32_t bytes, int64_t no
         if (ref_find(r, l) < 0) {
             if (ref_pending(r, l)) {
                 r->st.merged++;
-            } else {
+            } else if (alloc > 0) {
+                alloc--;
                 r->pend[r->npend++] = l;
                 r->st.miss_lines++;
             }
@@ -533,6 +568,7 @@ int main(void)
     test_hit_miss_merge();
     test_lru_eviction();
     test_mshr_exhaustion();
+    test_partial_probe_one_mshr();
     test_request_waiters();
     test_ports();
     test_banked_unaligned();
@@ -541,6 +577,7 @@ int main(void)
     run_random(1024, 64, 4, 1, 1, 4, 64, false, ops);
     run_random(2048, 64, 4, 2, 1, 8, 64, false, ops);
     run_random(1024, 32, 1, 1, 2, 2, 64, false, ops);
+    run_random(1024, 32, 2, 1, 2, 1, 64, false, ops); /* one MSHR: partial probes */
     run_random(2048, 128, 2, 2, 2, 3, 64, false, ops);
     run_random(4096, 64, 8, 4, 3, 16, 64, false, ops);
     run_random(1024, 64, 4, 1, 1, 4, 2, true, ops);

@@ -35,6 +35,8 @@ struct accel_top {
     double mrps, seconds;
     /* derived statistics */
     uint64_t stat_cycles, stat_rays, stat_dram_bytes;
+    uint64_t stat_failed;      /* the run stopped on a failure */
+    char failure[128];         /* its one-line cause, "" when none */
     double stat_mrps, stat_dram_gbs, stat_in_flight;
 };
 
@@ -188,8 +190,12 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     }
 
     /* statistics: the frame's figures first, then per unit */
-    ks_stat_counter_ref(t->stats, "cycles", "cycles", "accelerator cycles of the frame (to the last ray's completion)",
+    ks_stat_counter_ref(t->stats, "cycles", "cycles", "accelerator cycles of the frame (to the last ray's completion, or to where a failed run stopped)",
                         &t->stat_cycles);
+    ks_stat_counter_ref(t->stats, "run_failed", "flag",
+                        "1 when the run stopped on a deadlock, a livelock or stack overflows: the statistics then cover "
+                        "the cycles simulated until it stopped",
+                        &t->stat_failed);
     ks_stat_counter_ref(t->stats, "rays", "rays", "rays traced (primary and bounce)", &t->stat_rays);
     ks_stat_real_ref(t->stats, "mrps", "Mrays/s", "million rays per second at the machine clock", &t->stat_mrps);
     ks_stat_counter_ref(t->stats, "dram_bytes", "bytes", "bytes transferred from/to main memory", &t->stat_dram_bytes);
@@ -236,10 +242,14 @@ void accel_top_destroy(accel_top *t)
     free(t);
 }
 
-static void finish_stats(accel_top *t)
+/* stop_cycle: where a failed run stopped (0 when it completed); its
+ * statistics cover the cycles simulated until then. */
+static void finish_stats(accel_top *t, uint64_t stop_cycle)
 {
     t->rays_done = t->sched.completed;
     t->cycles = t->rays_done ? t->sched.last_complete_cycle + 1 : 0;
+    if (stop_cycle > t->cycles)
+        t->cycles = stop_cycle;
     t->seconds = (double)t->cycles / (t->p.clock_mhz * 1e6);
     t->mrps = t->seconds > 0 ? (double)t->rays_done / t->seconds / 1e6 : 0.0;
     t->stat_cycles = t->cycles;
@@ -285,17 +295,18 @@ static void describe_units(accel_top *t, uint64_t now, char *err, size_t errlen,
 int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *err, size_t errlen)
 {
     ks_time period = ks_clock_period(t->clk);
-    uint64_t slice_end = 0;
+    uint64_t slice_end = 0, now_cycle = 0;
     int rc = 0;
     for (;;) {
         slice_end += SLICE_CYCLES;
         ks_run_status st = ks_sim_run(t->sim, (ks_time)slice_end * period);
-        uint64_t now_cycle = (uint64_t)(ks_sim_now(t->sim) / period);
+        now_cycle = (uint64_t)(ks_sim_now(t->sim) / period);
         if (progress)
             progress(user, now_cycle, t->sched.completed, t->sched.admitted);
         if (st == KS_RUN_DEADLOCK) {
             snprintf(err, errlen, "deadlock at cycle %llu:\n%s", (unsigned long long)now_cycle,
                      ks_sim_deadlock_report(t->sim));
+            snprintf(t->failure, sizeof t->failure, "deadlock at cycle %llu", (unsigned long long)now_cycle);
             rc = 1;
             break;
         }
@@ -304,6 +315,7 @@ int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *er
                 snprintf(err, errlen, "simulation ran dry at cycle %llu with %llu rays in flight:\n%s",
                          (unsigned long long)now_cycle, (unsigned long long)t->sched.in_flight,
                          ks_sim_deadlock_report(t->sim));
+                snprintf(t->failure, sizeof t->failure, "ran dry at cycle %llu", (unsigned long long)now_cycle);
                 rc = 1;
             }
             break;
@@ -316,18 +328,23 @@ int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *er
                              (unsigned long long)t->p.sched.watchdog_cycles, (unsigned long long)now_cycle,
                              (unsigned long long)t->sched.in_flight);
             describe_units(t, now_cycle, err, errlen, n);
+            snprintf(t->failure, sizeof t->failure, "livelock (no ray completed) at cycle %llu",
+                     (unsigned long long)now_cycle);
             rc = 1;
             break;
         }
     }
-    finish_stats(t);
+    finish_stats(t, rc ? now_cycle : 0);
     if (rc == 0 && t->sched.any_failed) {
         snprintf(err, errlen,
                  "%llu rays overflowed their %u-entry traversal stack: the stack is too small for this scene "
                  "(raise trv.stack_depth, allowed 1..4096)",
                  (unsigned long long)t->sched.failed, t->p.trv.core.stack_depth);
+        snprintf(t->failure, sizeof t->failure, "%llu rays overflowed their stack",
+                 (unsigned long long)t->sched.failed);
         rc = 1;
     }
+    t->stat_failed = rc != 0;
     if (t->vcd) {
         if (ks_vcd_close(t->vcd) && rc == 0) {
             snprintf(err, errlen, "VCD: %s", ks_sim_error(t->sim));
@@ -348,6 +365,9 @@ void accel_top_print_summary(accel_top *t, FILE *out)
 {
     fprintf(out, "machine     %d-wide, %u TRV x %u slots, 1 IST, %.0f MHz\n", t->p.width, t->p.trv_count,
             t->p.trv.core.slots, t->p.clock_mhz);
+    if (t->failure[0])
+        fprintf(out, "status      FAILED: %s; the figures below cover the cycles simulated until then\n",
+                t->failure);
     fprintf(out, "cycles      %llu\n", (unsigned long long)t->cycles);
     fprintf(out, "rays        %llu (%llu primary, %llu bounce)\n", (unsigned long long)t->rays_done,
             (unsigned long long)t->sched.primaries, (unsigned long long)t->sched.bounces);

@@ -170,5 +170,13 @@ else fail accel_cli_autosize_reload "rc $rc: $out"; fi
 
 # an undersized FIFO deadlocks: exit 1 and a report naming the unit
 expect accel_cli_deadlock_exit1 1 "deadlock" -- "$bin" "$scene" --res 32x32 --quiet --set fifo.ray_trv_loop=1
+# ... and says so in the summary and the JSON, whose figures cover the
+# cycles simulated until it stopped (a completed run says run_failed 0)
+out=$("$bin" "$scene" --res 32x32 --set fifo.ray_trv_loop=1 --json "$tmp/dl.json" 2>/dev/null)
+stop=$(echo "$out" | sed -n 's/^status      FAILED: deadlock at cycle \([0-9]*\);.*/\1/p')
+if [ -n "$stop" ] && echo "$out" | grep -q "^cycles      $stop\$" &&
+   python3 -c "import json,sys; d=json.load(open('$tmp/dl.json')); a=json.load(open('$tmp/s1.json')); sys.exit(0 if d['run_failed']==1 and d['cycles']==$stop and a['run_failed']==0 else 1)"; then
+  pass accel_cli_failed_run_marked
+else fail accel_cli_failed_run_marked "summary/JSON do not mark the failed run: $(echo "$out" | head -5 | tr '\n' ' ')"; fi
 # a stack too small for the scene: exit 1 naming the key
 expect accel_cli_stack_too_small 1 "trv.stack_depth" -- "$bin" "$scene" --res 16x16 --quiet --set trv.stack_depth=1

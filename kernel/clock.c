@@ -295,8 +295,7 @@ ks_clocked *ks_clocked_create(ks_clock *c, const char *name, ks_step_fn step, vo
         c->woken = ks__xrealloc(c->woken, words * sizeof *c->woken);
         c->awake[words - 1] = c->woken[words - 1] = 0;
         c->n_words = words;
-        for (uint32_t i = 0; i < c->n_procs; i++)
-        {
+        for (uint32_t i = 0; i < c->n_procs; i++) {
             c->procs[i]->awake_word = &c->awake[i >> 6];
             c->procs[i]->woken_word = &c->woken[i >> 6];
         }

@@ -140,8 +140,8 @@ const char *ks_run_status_name(ks_run_status st)
  * drawn from a counter at push time, so entries pushed at time q_last
  * arrive in key order, except clock ticks, whose fixed keys sort below all
  * others (sched_types.h) and are moved to their place; entries
- * redistributed into q_now are sorted by key first. The result is the exact (time, key) order of a heap at a fraction
- * of its cost. A push before q_last (possible after a run stopped at its
+ * redistributed into q_now are sorted by key first. The result is the
+ * exact (time, key) order of a heap at a fraction of its cost. A push before q_last (possible after a run stopped at its
  * time limit looked beyond it, or on an empty queue) re-buckets everything
  * around the new minimum. */
 

@@ -38,8 +38,10 @@ typedef struct dqueue {
 #define MAX_BANK_INDEX 512
 
 typedef struct dbank {
-    int64_t eff[DRAM_NCMD];    /* max of channel, rank and bank next[]: when each command may issue */
-    int64_t next[DRAM_NCMD];   /* earliest cycle each command may issue (bank constraints) */
+    int64_t next[DRAM_NCMD];   /* earliest cycle each command may issue (bank constraints); the
+                                  command may issue at the max of this and the channel's and
+                                  rank's next[] (combined where needed, not kept per bank: a
+                                  command changes the channel's next[] of every bank at once) */
     int32_t open_row;          /* -1 = closed */
     int32_t hits;              /* RD/WR to the open row since its ACT (Ramulator RowTable) */
 } dbank;
@@ -82,6 +84,8 @@ struct dram_ctrl {
     int64_t clk;
     int nch, nrank, nbank;
     int write_high_pct;
+    int wq_hi, wq_lo;          /* write-mode watermarks in entries (from the percentages) */
+    int pending;               /* requests not yet done, all channels (dram_pending) */
     int exhaustive;            /* run the scheduler every cycle, never skip (reference mode) */
     dchan *ch;
     cons_row rows[DRAM_MAX_CONSTRAINTS];
@@ -196,6 +200,8 @@ dram_ctrl *dram_ctrl_create(const dram_spec *spec, dram_done_fn done, void *user
     c->nrank = spec->ranks;
     c->nbank = spec->banks;
     c->write_high_pct = spec->write_high_pct;
+    c->wq_hi = spec->write_queue * c->write_high_pct / 100;
+    c->wq_lo = spec->write_queue * spec->write_low_pct / 100;
     /* group constraint rows by (scope, FROM), keeping file order */
     int n = 0;
     for (int s = 0; s < DRAM_NSCOPE; s++)
@@ -261,7 +267,11 @@ void dram_set_cmd_sink(dram_ctrl *c, dram_cmd_fn fn, void *user)
 const dram_spec *dram_ctrl_spec(const dram_ctrl *c) { return c->spec; }
 const dram_addrmap *dram_ctrl_addrmap(const dram_ctrl *c) { return &c->map; }
 int64_t dram_clock(const dram_ctrl *c) { return c->clk; }
-void dram_set_write_high_pct(dram_ctrl *c, int pct) { c->write_high_pct = pct; }
+void dram_set_write_high_pct(dram_ctrl *c, int pct)
+{
+    c->write_high_pct = pct;
+    c->wq_hi = c->spec->write_queue * pct / 100;
+}
 
 /* ---- readiness ---- */
 
@@ -289,25 +299,10 @@ static inline int64_t max64(int64_t a, int64_t b) { return a > b ? a : b; }
 /* Earliest cycle `cmd` for request r may issue given everything issued so far. */
 static inline int64_t earliest(const dram_ctrl *c, dchan *ch, const dreq *r, int cmd)
 {
+    const int64_t t = max64(ch->next[cmd], ch->ranks[r->rank].next[cmd]);
     if (dram_cmd_is_bank_scoped(cmd))
-        return bank_of(c, ch, r)->eff[cmd];
-    return max64(ch->next[cmd], ch->ranks[r->rank].next[cmd]);
-}
-
-/* Refreshes every bank's eff[] of a channel after its next[] values changed. */
-static void update_eff(const dram_ctrl *c, dchan *ch)
-{
-    static const int bank_cmds[4] = {DRAM_ACT, DRAM_PRE, DRAM_RD, DRAM_WR};
-    for (int r = 0; r < c->nrank; r++) {
-        const drank *rk = &ch->ranks[r];
-        dbank *b = &ch->banks[r * c->nbank];
-        for (int k = 0; k < 4; k++) {
-            const int cmd = bank_cmds[k];
-            const int64_t t = max64(ch->next[cmd], rk->next[cmd]);
-            for (int i = 0; i < c->nbank; i++)
-                b[i].eff[cmd] = max64(t, b[i].next[cmd]);
-        }
-    }
+        return max64(t, bank_of(c, ch, r)->next[cmd]);
+    return t;
 }
 
 /* FR-FCFS-Cap head: the oldest request that is ready with <= cap row hits, else the
@@ -364,34 +359,42 @@ static int pick_counted(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, in
 {
     if (q->n == 0)
         return -1;
-    const int nb = c->nrank * c->nbank, cap = c->spec->row_hit_cap;
+    const int cap = c->spec->row_hit_cap;
     const int64_t now = c->clk;
     int64_t lo = *min_earliest;
+    /* mask[] is written for every bank with entries: the only ones read below */
     uint8_t mask[MAX_BANK_INDEX];
     int any = 0;
-    for (int i = 0; i < nb; i++) {
-        mask[i] = 0;
-        const dqcount k = q->bc[i];
-        if (!k.n)
-            continue;
-        const dbank *b = &ch->banks[i];
-        const int hr = k.hit[REQ_READ], hw = k.hit[REQ_WRITE];
-        if (k.n > hr + hw) {
-            const int64_t e = b->eff[b->open_row < 0 ? DRAM_ACT : DRAM_PRE];
-            lo = e < lo ? e : lo;
-            mask[i] |= e <= now ? READY_OTHER : 0;
+    for (int rk = 0, i = 0; rk < c->nrank; rk++) {
+        /* channel and rank bounds of the four bank commands, for this rank's banks */
+        const int64_t *cn = ch->next, *rn = ch->ranks[rk].next;
+        const int64_t t_act = max64(cn[DRAM_ACT], rn[DRAM_ACT]), t_pre = max64(cn[DRAM_PRE], rn[DRAM_PRE]);
+        const int64_t t_rd = max64(cn[DRAM_RD], rn[DRAM_RD]), t_wr = max64(cn[DRAM_WR], rn[DRAM_WR]);
+        for (const int end = i + c->nbank; i < end; i++) {
+            const dqcount k = q->bc[i];
+            if (!k.n)
+                continue;
+            const dbank *b = &ch->banks[i];
+            const int hr = k.hit[REQ_READ], hw = k.hit[REQ_WRITE];
+            int m = 0;
+            if (k.n > hr + hw) {
+                const int64_t e = b->open_row < 0 ? max64(t_act, b->next[DRAM_ACT]) : max64(t_pre, b->next[DRAM_PRE]);
+                lo = e < lo ? e : lo;
+                m |= e <= now ? READY_OTHER : 0;
+            }
+            if (hr) {
+                const int64_t e = max64(t_rd, b->next[DRAM_RD]);
+                lo = e < lo ? e : lo;
+                m |= e <= now && b->hits <= cap ? READY_HIT_RD : 0;
+            }
+            if (hw) {
+                const int64_t e = max64(t_wr, b->next[DRAM_WR]);
+                lo = e < lo ? e : lo;
+                m |= e <= now && b->hits <= cap ? READY_HIT_WR : 0;
+            }
+            mask[i] = (uint8_t)m;
+            any |= m;
         }
-        if (hr) {
-            const int64_t e = b->eff[DRAM_RD];
-            lo = e < lo ? e : lo;
-            mask[i] |= e <= now && b->hits <= cap ? READY_HIT_RD : 0;
-        }
-        if (hw) {
-            const int64_t e = b->eff[DRAM_WR];
-            lo = e < lo ? e : lo;
-            mask[i] |= e <= now && b->hits <= cap ? READY_HIT_WR : 0;
-        }
-        any |= mask[i];
     }
     *min_earliest = lo;
     int best = 0;
@@ -477,7 +480,6 @@ static void issue(dram_ctrl *c, int chi, int cmd, int rank, int bank, uint32_t r
                 if (b != bank)
                     apply_rows(c, DRAM_SCOPE_SIBLING, cmd, banks[b].next, NULL, now);
     }
-    update_eff(c, ch);
     switch (cmd) {
     case DRAM_ACT:
         banks[bank].open_row = (int32_t)row;
@@ -523,11 +525,12 @@ bool dram_will_accept(const dram_ctrl *c, uint64_t addr, bool is_write)
 
 bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
 {
-    if (!dram_will_accept(c, addr, is_write))
-        return false;
     dram_addr a;
     dram_addrmap_decode(&c->map, addr, &a);
     dchan *ch = &c->ch[a.channel];
+    if (queue_for(ch, is_write)->n >= (is_write ? c->spec->write_queue : c->spec->read_queue))
+        return false; /* = !dram_will_accept() */
+    c->pending++;
     dreq r = {.addr = addr, .tag = tag, .arrive = c->clk, .depart = 0, .row = a.row,
               .rank = (uint16_t)a.rank, .bank = (uint16_t)a.bank,
               .bidx = (uint16_t)(a.rank * (uint32_t)c->nbank + a.bank), .type = is_write ? REQ_WRITE : REQ_READ, .first = 1};
@@ -546,8 +549,7 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
 
 static int write_mode_next(const dram_ctrl *c, const dchan *ch)
 {
-    const int hi = c->spec->write_queue * c->write_high_pct / 100;
-    const int lo = c->spec->write_queue * c->spec->write_low_pct / 100;
+    const int hi = c->wq_hi, lo = c->wq_lo;
     if (!ch->write_mode)
         return ch->writeq.n > hi || ch->readq.n == 0;
     return !(ch->writeq.n < lo && ch->readq.n != 0);
@@ -563,6 +565,7 @@ static void chan_tick(dram_ctrl *c, int chi)
         dreq r = ch->pend[ch->pend_head];
         ch->pend_head = (ch->pend_head + 1) % ch->pend_cap;
         ch->pend_n--;
+        c->pending--;
         int64_t lat = r.depart - r.arrive;
         if (lat > 1) {
             ch->st.reads_done++;
@@ -577,6 +580,7 @@ static void chan_tick(dram_ctrl *c, int chi)
             dreq r = {.arrive = now, .rank = (uint16_t)rk, .bidx = (uint16_t)(rk * c->nbank), .type = REQ_REFRESH,
                       .first = 0};
             q_push(&ch->otherq, ch->banks, &r);
+            c->pending++;
         }
         ch->refreshed = now;
         ch->sched_wake = 0;
@@ -640,7 +644,10 @@ static void chan_tick(dram_ctrl *c, int chi)
     if (done.type == REQ_READ) {
         done.depart = now + c->spec->read_latency;
         pend_push(ch, &done);
+    } else if (done.type == REQ_REFRESH) {
+        c->pending--;
     } else if (done.type == REQ_WRITE) {
+        c->pending--;
         ch->st.writes_done++;
         if (c->done)
             c->done(c->done_user, done.addr, done.tag, true, now - done.arrive);
@@ -656,12 +663,8 @@ void dram_tick(dram_ctrl *c)
 
 int dram_pending(const dram_ctrl *c)
 {
-    int n = 0;
-    for (int i = 0; i < c->nch; i++) {
-        const dchan *ch = &c->ch[i];
-        n += ch->readq.n + ch->writeq.n + ch->actq.n + ch->otherq.n + ch->pend_n;
-    }
-    return n;
+    /* = the sum over channels of readq + writeq + actq + otherq + pend, kept as a count */
+    return c->pending;
 }
 
 static int64_t chan_next_event(const dram_ctrl *c, dchan *ch)

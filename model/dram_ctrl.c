@@ -28,14 +28,16 @@ typedef struct dqcount {
     uint16_t hit[2];       /* of which hit its open row, by type (REQ_READ, REQ_WRITE) */
 } dqcount;
 
+/* Bank indices per channel at most (ranks <= 8, banks <= 64: dram_timing.c). */
+#define MAX_BANK_INDEX 512
+#define BANK_WORDS (MAX_BANK_INDEX / 64)
+
 typedef struct dqueue {
     dreq *v;
     int n, cap;
     dqcount *bc;           /* per bank index (rank * banks + bank); NULL: not counted (otherq) */
+    uint64_t used[BANK_WORDS]; /* bit i: bc[i].n > 0 (the scan visits only these banks) */
 } dqueue;
-
-/* Bank indices per channel at most (ranks <= 8, banks <= 64: dram_timing.c). */
-#define MAX_BANK_INDEX 512
 
 typedef struct dbank {
     int64_t next[DRAM_NCMD];   /* earliest cycle each command may issue (bank constraints); the
@@ -125,6 +127,11 @@ static inline void q_count(dqueue *q, const dbank *banks, const dreq *r, int d)
         return;
     dqcount *k = &q->bc[r->bidx];
     k->n = (uint16_t)(k->n + d);
+    const uint64_t bit = 1ull << (r->bidx & 63);
+    if (k->n)
+        q->used[r->bidx >> 6] |= bit;
+    else
+        q->used[r->bidx >> 6] &= ~bit;
     if (banks[r->bidx].open_row >= 0 && (uint32_t)banks[r->bidx].open_row == r->row)
         k->hit[r->type] = (uint16_t)(k->hit[r->type] + d);
 }
@@ -365,15 +372,23 @@ static int pick_counted(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, in
     /* mask[] is written for every bank with entries: the only ones read below */
     uint8_t mask[MAX_BANK_INDEX];
     int any = 0;
-    for (int rk = 0, i = 0; rk < c->nrank; rk++) {
-        /* channel and rank bounds of the four bank commands, for this rank's banks */
-        const int64_t *cn = ch->next, *rn = ch->ranks[rk].next;
-        const int64_t t_act = max64(cn[DRAM_ACT], rn[DRAM_ACT]), t_pre = max64(cn[DRAM_PRE], rn[DRAM_PRE]);
-        const int64_t t_rd = max64(cn[DRAM_RD], rn[DRAM_RD]), t_wr = max64(cn[DRAM_WR], rn[DRAM_WR]);
-        for (const int end = i + c->nbank; i < end; i++) {
+    /* channel and rank bounds of the four bank commands, per rank */
+    int64_t t_act = 0, t_pre = 0, t_rd = 0, t_wr = 0;
+    int cur_rank = -1;
+    const int words = (c->nrank * c->nbank + 63) >> 6;
+    for (int w = 0; w < words; w++) {
+        for (uint64_t bits = q->used[w]; bits; bits &= bits - 1) {
+            const int i = (w << 6) + __builtin_ctzll(bits);
+            const int rk = c->nrank == 1 ? 0 : i / c->nbank;
+            if (rk != cur_rank) {
+                const int64_t *cn = ch->next, *rn = ch->ranks[rk].next;
+                t_act = max64(cn[DRAM_ACT], rn[DRAM_ACT]);
+                t_pre = max64(cn[DRAM_PRE], rn[DRAM_PRE]);
+                t_rd = max64(cn[DRAM_RD], rn[DRAM_RD]);
+                t_wr = max64(cn[DRAM_WR], rn[DRAM_WR]);
+                cur_rank = rk;
+            }
             const dqcount k = q->bc[i];
-            if (!k.n)
-                continue;
             const dbank *b = &ch->banks[i];
             const int hr = k.hit[REQ_READ], hw = k.hit[REQ_WRITE];
             int m = 0;

@@ -223,8 +223,11 @@ static int alloc_mshr(cache *c, uint64_t line, int64_t now)
     return k;
 }
 
-/* Shared body of cache_access / cache_request. */
-static cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_t now, const mem_req *req)
+static cache_result access_multi(cache *c, uint64_t first, uint64_t last, uint32_t bytes, int64_t now,
+                                 const mem_req *req);
+
+/* Shared body of cache_access / cache_request (inlined into both). */
+static inline cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_t now, const mem_req *req)
 {
     if (now != c->cycle) {
         c->cycle = now;
@@ -290,6 +293,14 @@ static cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_
             c->m[k].wait[c->m[k].nwait++] = wi;
         return CACHE_MISS;
     }
+    return access_multi(c, first, last, bytes, now, req);
+}
+
+/* The general path of access_lines: lines first..last (port already checked). Out of
+ * line so that the one-line path above stays small. */
+static __attribute__((noinline)) cache_result access_multi(cache *c, uint64_t first, uint64_t last, uint32_t bytes,
+                                                           int64_t now, const mem_req *req)
+{
     int n = (int)(last - first + 1);
     if (n > MAX_LINES_PER_ACCESS) {
         fprintf(stderr, "cache: access of %u bytes spans %d lines (at most %d)\n", bytes, n, MAX_LINES_PER_ACCESS);

@@ -132,7 +132,7 @@ trv_pass_result trv_core_pass(trv_core *c, accel_ray *r, uint64_t now, uint32_t 
     }
     c->st.box_lanes += (uint64_t)n;
     c->st.sort_passes++;
-    c->st.sort_swaps += (uint64_t)sort_net_apply_packed(c->net, keys);
+    c->st.sort_swaps += (uint64_t)sort_net_apply_packed_fast(c->net, keys);
     if (hits == 0)
         return pop_next(c, r, stack_cycles);
 

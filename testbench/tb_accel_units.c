@@ -93,7 +93,12 @@ static void test_sort_four_with_ties(void)
             uint64_t packed[4];
             for (int i = 0; i < 4; i++)
                 packed[i] = sort_key_pack(k[i].tnear, k[i].slot, k[i].hit);
-            sort_net_apply_packed(net, packed);
+            uint64_t fast[4];
+            memcpy(fast, packed, sizeof fast);
+            const int swaps = sort_net_apply_packed(net, packed);
+            /* the constant-comparator 4-lane network: same order, same swap count */
+            TB_EQ_INT(sort_net_apply_packed_fast(net, fast), swaps);
+            TB_CHECK(memcmp(fast, packed, sizeof fast) == 0, "fast network differs: code %d mask %x", code, mask);
             for (int i = 0; i < 4; i++)
                 TB_CHECK(sort_key_slot(packed[i]) == want[i].slot && sort_key_hit(packed[i]) == (want[i].hit != 0),
                          "packed: code %d mask %x lane %d: slot %u, want %d", code, mask, i, sort_key_slot(packed[i]),
@@ -111,6 +116,14 @@ static void test_sort_four_with_ties(void)
     sort_key a[2] = {{2.0f, 0, 1}, {2.0f, 1, 1}};
     sort_net_apply(n2, a);
     TB_CHECK(a[0].slot == 0, "tie keeps slot 0 first");
+    for (int o = 0; o < 2; o++) { /* the 2-lane fast network equals the table */
+        uint64_t p2[SORT_NET_MAX_LANES] = {sort_key_pack(1.0f + (float)o, 0, true), sort_key_pack(1.5f, 1, true)},
+                 q2[SORT_NET_MAX_LANES];
+        memcpy(q2, p2, sizeof q2);
+        const int sw2 = sort_net_apply_packed(n2, p2);
+        TB_EQ_INT(sort_net_apply_packed_fast(n2, q2), sw2);
+        TB_CHECK(memcmp(p2, q2, sizeof p2) == 0, "2-lane fast network differs (case %d)", o);
+    }
     sort_key b[2] = {{2.0f, 0, 1}, {1.0f, 1, 1}};
     TB_EQ_INT(sort_net_apply(n2, b), 1);
     TB_CHECK(b[0].slot == 1, "nearer slot 1 first");

@@ -88,6 +88,7 @@ struct dram_ctrl {
     int write_high_pct;
     int wq_hi, wq_lo;          /* write-mode watermarks in entries (from the percentages) */
     int pending;               /* requests not yet done, all channels (dram_pending) */
+    int writes;                /* write requests not yet done (their WR not issued) */
     int exhaustive;            /* run the scheduler every cycle, never skip (reference mode) */
     dchan *ch;
     cons_row rows[DRAM_MAX_CONSTRAINTS];
@@ -546,6 +547,7 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
     if (queue_for(ch, is_write)->n >= (is_write ? c->spec->write_queue : c->spec->read_queue))
         return false; /* = !dram_will_accept() */
     c->pending++;
+    c->writes += is_write;
     dreq r = {.addr = addr, .tag = tag, .arrive = c->clk, .depart = 0, .row = a.row,
               .rank = (uint16_t)a.rank, .bank = (uint16_t)a.bank,
               .bidx = (uint16_t)(a.rank * (uint32_t)c->nbank + a.bank), .type = is_write ? REQ_WRITE : REQ_READ, .first = 1};
@@ -663,6 +665,7 @@ static void chan_tick(dram_ctrl *c, int chi)
         c->pending--;
     } else if (done.type == REQ_WRITE) {
         c->pending--;
+        c->writes--;
         ch->st.writes_done++;
         if (c->done)
             c->done(c->done_user, done.addr, done.tag, true, now - done.arrive);
@@ -706,6 +709,24 @@ int64_t dram_next_event(const dram_ctrl *c)
             break;
     }
     return t;
+}
+
+int64_t dram_next_done(const dram_ctrl *c)
+{
+    const int64_t soon = c->clk + 1;
+    if (c->writes)
+        return soon; /* a write is done when its WR issues: any tick may do it */
+    int64_t t = INT64_MAX;
+    for (int i = 0; i < c->nch; i++) {
+        const dchan *ch = &c->ch[i];
+        /* reads pop from the head of pend, at or after its depart cycle */
+        if (ch->pend_n && ch->pend[ch->pend_head].depart < t)
+            t = ch->pend[ch->pend_head].depart;
+        /* a read still queued issues its RD at soon at the earliest */
+        if (ch->readq.n + ch->actq.n && soon + c->spec->read_latency < t)
+            t = soon + c->spec->read_latency;
+    }
+    return t < soon ? soon : t;
 }
 
 void dram_set_exhaustive(dram_ctrl *c, bool on) { c->exhaustive = on; }

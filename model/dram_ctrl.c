@@ -559,8 +559,18 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
                 pend_push(ch, &r);
                 return true;
             }
-    q_push(queue_for(ch, is_write), ch->banks, &r);
-    ch->sched_wake = 0;
+    dqueue *q = queue_for(ch, is_write);
+    q_push(q, ch->banks, &r);
+    /* The last scan found nothing issuable before sched_wake and nothing changed
+     * since but this entry: the bound stays valid with the entry's own earliest
+     * cycle folded in (as the next scan would compute it) when the next scan looks
+     * at its queue; a queue it does not look at leaves it unchanged (a mode change
+     * resets it). */
+    if (ch->sched_wake && !ch->otherq.n && q == (ch->write_mode ? &ch->writeq : &ch->readq)) {
+        const int64_t e = earliest(c, ch, &r, first_cmd(c, ch, &r));
+        if (e < ch->sched_wake)
+            ch->sched_wake = e > 0 ? e : 0;
+    }
     return true;
 }
 

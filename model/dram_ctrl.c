@@ -37,6 +37,9 @@ typedef struct dqueue {
     int n, cap;
     dqcount *bc;           /* per bank index (rank * banks + bank); NULL: not counted (otherq) */
     uint64_t used[BANK_WORDS]; /* bit i: bc[i].n > 0 (the scan visits only these banks) */
+    /* banks 0..63 by request class (channels of at most 64 banks, one rank: the
+     * fast scan): entries that are no row hit, read row hits, write row hits */
+    uint64_t cls_other, cls_rd, cls_wr;
 } dqueue;
 
 typedef struct dbank {
@@ -64,6 +67,8 @@ typedef struct dchan {
     drank *ranks;
     dbank *banks;              /* rank-major */
     int write_mode;
+    uint64_t open_mask;        /* banks 0..63 with an open row */
+    uint64_t capped_mask;      /* banks 0..63 whose row hits exceed the cap */
     int64_t sched_wake;        /* no command can issue before this cycle unless the queues or
                                   bank states change (0 = unknown: run the scheduler) */
     int64_t refreshed;         /* cycle of the last refresh injection */
@@ -88,6 +93,7 @@ struct dram_ctrl {
     int write_high_pct;
     int wq_hi, wq_lo;          /* write-mode watermarks in entries (from the percentages) */
     int pending;               /* requests not yet done, all channels (dram_pending) */
+    int fast_scan;             /* one rank, <= 64 banks: pick_counted1 */
     int writes;                /* write requests not yet done (their WR not issued) */
     int exhaustive;            /* run the scheduler every cycle, never skip (reference mode) */
     dchan *ch;
@@ -121,6 +127,18 @@ static void q_free(dqueue *q)
     free(q->bc);
 }
 
+/* The class bits of bank bidx in q from its counters. */
+static inline void q_class_bits(dqueue *q, int bidx)
+{
+    if (bidx >= 64)
+        return;
+    const dqcount k = q->bc[bidx];
+    const uint64_t bit = 1ull << bidx;
+    q->cls_other = k.n > k.hit[0] + k.hit[1] ? q->cls_other | bit : q->cls_other & ~bit;
+    q->cls_rd = k.hit[REQ_READ] ? q->cls_rd | bit : q->cls_rd & ~bit;
+    q->cls_wr = k.hit[REQ_WRITE] ? q->cls_wr | bit : q->cls_wr & ~bit;
+}
+
 /* Per-bank counters of a counted queue: +1 or -1 for entry r given the banks' state. */
 static inline void q_count(dqueue *q, const dbank *banks, const dreq *r, int d)
 {
@@ -135,6 +153,7 @@ static inline void q_count(dqueue *q, const dbank *banks, const dreq *r, int d)
         q->used[r->bidx >> 6] &= ~bit;
     if (banks[r->bidx].open_row >= 0 && (uint32_t)banks[r->bidx].open_row == r->row)
         k->hit[r->type] = (uint16_t)(k->hit[r->type] + d);
+    q_class_bits(q, r->bidx);
 }
 
 /* Bank bidx changed its open row: recount its row hits in a counted queue. */
@@ -142,14 +161,15 @@ static void q_recount(dqueue *q, const dbank *banks, int bidx)
 {
     dqcount *k = &q->bc[bidx];
     k->hit[0] = k->hit[1] = 0;
-    if (banks[bidx].open_row < 0 || !k->n)
-        return;
-    const uint32_t row = (uint32_t)banks[bidx].open_row;
-    for (int i = 0; i < q->n; i++) {
-        const dreq *r = &q->v[i];
-        if (r->bidx == bidx && r->row == row)
-            k->hit[r->type]++;
+    if (banks[bidx].open_row >= 0 && k->n) {
+        const uint32_t row = (uint32_t)banks[bidx].open_row;
+        for (int i = 0; i < q->n; i++) {
+            const dreq *r = &q->v[i];
+            if (r->bidx == bidx && r->row == row)
+                k->hit[r->type]++;
+        }
     }
+    q_class_bits(q, bidx);
 }
 
 static void q_push_raw(dqueue *q, const dreq *r)
@@ -208,6 +228,7 @@ dram_ctrl *dram_ctrl_create(const dram_spec *spec, dram_done_fn done, void *user
     c->nrank = spec->ranks;
     c->nbank = spec->banks;
     c->write_high_pct = spec->write_high_pct;
+    c->fast_scan = c->nrank == 1 && c->nbank <= 64;
     c->wq_hi = spec->write_queue * c->write_high_pct / 100;
     c->wq_lo = spec->write_queue * spec->write_low_pct / 100;
     /* group constraint rows by (scope, FROM), keeping file order */
@@ -358,6 +379,76 @@ static inline int counted_ready(const dbank *b, const dreq *r, const uint8_t *ma
     return mask[r->bidx] & READY_OTHER;
 }
 
+/* Readiness of the classes of banks 0..63 (one bit per bank each). */
+typedef struct class_ready {
+    uint64_t other, rd, wr;
+} class_ready;
+
+static inline int class_ready_has(const dbank *b, const dreq *r, const class_ready *cr)
+{
+    const uint64_t bit = 1ull << r->bidx;
+    if (b->open_row >= 0 && (uint32_t)b->open_row == r->row)
+        return (r->type == REQ_WRITE ? cr->wr : cr->rd) & bit ? 1 : 0;
+    return cr->other & bit ? 1 : 0;
+}
+
+/* One command class of pick_counted1: banks `bits` need `cmd`; their earliest cycle
+ * is max(channel/rank bound, bank next[cmd]). Folds the class minimum into *lo
+ * (min over banks of the max = the max with the banks' minimum) and returns the
+ * banks ready at now. */
+static inline uint64_t class_scan(const dchan *ch, uint64_t bits, int cmd, int64_t now, int64_t *lo)
+{
+    if (!bits)
+        return 0;
+    const int64_t t = max64(ch->next[cmd], ch->ranks[0].next[cmd]);
+    int64_t mn = INT64_MAX;
+    uint64_t rdy = 0;
+    for (; bits; bits &= bits - 1) {
+        const int i = __builtin_ctzll(bits);
+        const int64_t x = ch->banks[i].next[cmd];
+        mn = x < mn ? x : mn;
+        rdy |= (uint64_t)(x <= now) << i;
+    }
+    const int64_t e = max64(t, mn);
+    if (e < *lo)
+        *lo = e;
+    return t <= now ? rdy : 0;
+}
+
+/* pick_counted for a channel of one rank with at most 64 banks (LPDDR3: 8), the
+ * same result from bank bitmasks: per class (ACT for closed banks with non-hit
+ * entries, PRE for open ones, RD and WR row hits) the banks' minimum and ready set. */
+static int pick_counted1(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, int64_t *min_earliest)
+{
+    const int64_t now = c->clk;
+    int64_t lo = *min_earliest;
+    class_ready cr;
+    cr.other = class_scan(ch, q->cls_other & ~ch->open_mask, DRAM_ACT, now, &lo) |
+               class_scan(ch, q->cls_other & ch->open_mask, DRAM_PRE, now, &lo);
+    cr.rd = class_scan(ch, q->cls_rd, DRAM_RD, now, &lo) & ~ch->capped_mask;
+    cr.wr = class_scan(ch, q->cls_wr, DRAM_WR, now, &lo) & ~ch->capped_mask;
+    *min_earliest = lo;
+    const int any = (cr.other | cr.rd | cr.wr) != 0;
+    if (sorted) {
+        if (any)
+            for (int i = 0; i < q->n; i++)
+                if (class_ready_has(&ch->banks[q->v[i].bidx], &q->v[i], &cr))
+                    return i;
+        return 0;
+    }
+    int best = 0, best_ready = any ? -1 : 0; /* without ready entries, the oldest of all */
+    for (int i = 0; i < q->n; i++) {
+        const dreq *r = &q->v[i];
+        if (any && !class_ready_has(&ch->banks[r->bidx], r, &cr))
+            continue;
+        if (best_ready < 0 || r->arrive < q->v[best].arrive) {
+            best = i;
+            best_ready = 1;
+        }
+    }
+    return best;
+}
+
 /* pick() for a counted queue, with the same result: per bank, the requests fall in
  * three classes (row hits by reads, by writes, and the rest: ACT if the bank is
  * closed, PRE if another row is open) that share their next command and thus their
@@ -367,6 +458,8 @@ static int pick_counted(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, in
 {
     if (q->n == 0)
         return -1;
+    if (c->fast_scan)
+        return pick_counted1(c, ch, q, sorted, min_earliest);
     const int cap = c->spec->row_hit_cap;
     const int64_t now = c->clk;
     int64_t lo = *min_earliest;
@@ -465,12 +558,24 @@ static void bank_row_changed(dchan *ch, int bidx)
     q_recount(&ch->actq, ch->banks, bidx);
 }
 
-static void close_bank(dchan *ch, drank *rk, dbank *b, int64_t now)
+/* Mirrors bank bidx's open state and hit cap into the channel's masks. */
+static inline void bank_bits(const dram_ctrl *c, dchan *ch, int bidx)
+{
+    if (bidx >= 64)
+        return;
+    const dbank *b = &ch->banks[bidx];
+    const uint64_t bit = 1ull << bidx;
+    ch->open_mask = b->open_row >= 0 ? ch->open_mask | bit : ch->open_mask & ~bit;
+    ch->capped_mask = b->hits > c->spec->row_hit_cap ? ch->capped_mask | bit : ch->capped_mask & ~bit;
+}
+
+static void close_bank(const dram_ctrl *c, dchan *ch, drank *rk, dbank *b, int64_t now)
 {
     if (b->open_row < 0)
         return;
     b->open_row = -1;
     b->hits = 0;
+    bank_bits(c, ch, (int)(b - ch->banks));
     bank_row_changed(ch, (int)(b - ch->banks));
     ch->st.n_pre_banks++;
     if (--rk->nopen == 0)
@@ -500,20 +605,22 @@ static void issue(dram_ctrl *c, int chi, int cmd, int rank, int bank, uint32_t r
     case DRAM_ACT:
         banks[bank].open_row = (int32_t)row;
         banks[bank].hits = 0;
+        bank_bits(c, ch, rank * c->nbank + bank);
         bank_row_changed(ch, rank * c->nbank + bank);
         if (rk->nopen++ == 0)
             rk->open_since = now;
         break;
     case DRAM_PRE:
-        close_bank(ch, rk, &banks[bank], now);
+        close_bank(c, ch, rk, &banks[bank], now);
         break;
     case DRAM_PREA:
         for (int b = 0; b < c->nbank; b++)
-            close_bank(ch, rk, &banks[b], now);
+            close_bank(c, ch, rk, &banks[b], now);
         break;
     case DRAM_RD:
     case DRAM_WR:
         banks[bank].hits++;
+        bank_bits(c, ch, rank * c->nbank + bank);
         break;
     default:
         break;

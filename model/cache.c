@@ -226,6 +226,78 @@ static int alloc_mshr(cache *c, uint64_t line, int64_t now)
 static cache_result access_multi(cache *c, uint64_t first, uint64_t last, uint32_t bytes, int64_t now,
                                  const mem_req *req);
 
+/* access_multi for two lines in two different banks (an unaligned triangle over
+ * two lines of the two-bank primitive cache): the same checks in the same order
+ * and the same effects, without the general bookkeeping. */
+static cache_result access_two(cache *c, uint64_t first, int64_t now, const mem_req *req)
+{
+    const uint64_t line[2] = {first, first + 1};
+    const uint32_t b[2] = {bank_of(c, line[0]), bank_of(c, line[1])};
+    uint32_t used[2];
+    for (int k = 0; k < 2; k++) {
+        used[k] = bank_reads(c, b[k], now);
+        if (!(c->bank_busy_until[b[k]] < now && (used[k] + 1 <= c->p.ports || used[k] == 0))) {
+            c->st.blocked_bank++;
+            return CACHE_BLOCKED;
+        }
+    }
+    int way[2], ms[2], need_new = 0, missing = 0;
+    for (int i = 0; i < 2; i++) {
+        way[i] = lookup(c, line[i]);
+        ms[i] = -1;
+        if (way[i] >= 0)
+            continue;
+        missing++;
+        ms[i] = find_mshr(c, line[i]);
+        if (ms[i] < 0)
+            need_new++;
+        else if (req && c->m[ms[i]].nwait >= (int)c->p.mshr_merge) {
+            c->st.blocked_merge++;
+            return CACHE_BLOCKED;
+        }
+    }
+    if (need_new > (int)c->p.mshrs - c->mshr_busy) {
+        c->st.blocked_mshr++;
+        return CACHE_BLOCKED;
+    }
+    if (req && missing && c->free_waiter < 0) {
+        c->st.blocked_merge++;
+        return CACHE_BLOCKED;
+    }
+    c->ports_used++;
+    bank_set_reads(c, b[0], now, used[0] + 1);
+    bank_set_reads(c, b[1], now, used[1] + 1);
+    c->last_cycles = 1;
+    c->st.accesses++;
+    for (int i = 0; i < 2; i++)
+        if (way[i] >= 0)
+            c->stamp[way[i]] = ++c->clock;
+    if (!missing) {
+        c->st.hits++;
+        return CACHE_HIT;
+    }
+    c->st.misses++;
+    int wi = -1;
+    if (req) {
+        wi = c->free_waiter;
+        c->free_waiter = c->w[wi].next_free;
+        c->w[wi].req = *req;
+        c->w[wi].remaining = missing;
+    }
+    for (int i = 0; i < 2; i++) {
+        if (way[i] >= 0)
+            continue;
+        int k = ms[i];
+        if (k >= 0)
+            c->st.merged++;
+        else
+            k = alloc_mshr(c, line[i], now);
+        if (req)
+            c->m[k].wait[c->m[k].nwait++] = wi;
+    }
+    return CACHE_MISS;
+}
+
 /* Shared body of cache_access / cache_request (inlined into both). */
 static inline cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_t now, const mem_req *req)
 {
@@ -293,6 +365,8 @@ static inline cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes,
             c->m[k].wait[c->m[k].nwait++] = wi;
         return CACHE_MISS;
     }
+    if (last == first + 1 && bank_of(c, first) != bank_of(c, last))
+        return access_two(c, first, now, req);
     return access_multi(c, first, last, bytes, now, req);
 }
 

@@ -144,7 +144,7 @@ static void on_cmd(void *user, const dram_cmd_rec *r)
 static void deliver(dram_port *p, int64_t now)
 {
     while (p->ready_n && ks_fifo_can_write(p->resp)) {
-        ks_fifo_write(p->resp, &p->ready[p->ready_head]);
+        KS_FIFO_WRITE(p->resp, &p->ready[p->ready_head]);
         p->ready_head = (p->ready_head + 1) % p->ready_cap;
         p->ready_n--;
         p->progress++;
@@ -200,7 +200,7 @@ static int accept(dram_port *p, int64_t now)
     }
     p->n_bursts++;
     if (s->added == s->resp.bursts) {
-        ks_fifo_read(p->req, NULL);
+        ks_fifo_pop(p->req);
         p->cur = -1;
     }
     return 1;

@@ -160,8 +160,10 @@ static inline void q_count(dqueue *q, const dbank *banks, const dreq *r, int d)
 static void q_recount(dqueue *q, const dbank *banks, int bidx)
 {
     dqcount *k = &q->bc[bidx];
+    if (!k->n)
+        return; /* no entries: no hits, class bits clear */
     k->hit[0] = k->hit[1] = 0;
-    if (banks[bidx].open_row >= 0 && k->n) {
+    if (banks[bidx].open_row >= 0) {
         const uint32_t row = (uint32_t)banks[bidx].open_row;
         for (int i = 0; i < q->n; i++) {
             const dreq *r = &q->v[i];

@@ -48,15 +48,6 @@ static int make_fifo(accel_top *t, ks_fifo **out, const char *name, uint32_t cap
     return 0;
 }
 
-/* The units' synchronous cache probe (model/cache.h protocol). */
-static cache_result probe_cache(void *ctx, uint64_t addr, uint32_t bytes, uint64_t now, uint32_t *cycles)
-{
-    cache *c = ctx;
-    cache_result r = cache_access(c, addr, bytes, (int64_t)now);
-    if (r == CACHE_HIT)
-        *cycles = cache_last_access_cycles(c);
-    return r;
-}
 
 static double util_formula(const ks_stats *reg, void *user)
 {
@@ -176,10 +167,10 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
         ist_set_events(&t->ist, opts->events, opts->events_user);
 
     for (uint32_t i = 0; i < ntrv; i++) {
-        trv_set_probe(&t->trv[i], probe_cache, memsys_node_l1(t->mem, (int)i));
+        trv_set_probe(&t->trv[i], cache_probe, memsys_node_l1(t->mem, (int)i));
         ks_clocked_wake_on(t->trv[i].proc, memsys_node_l1_filled(t->mem, (int)i));
     }
-    ist_set_probe(&t->ist, probe_cache, memsys_prim(t->mem));
+    ist_set_probe(&t->ist, cache_probe, memsys_prim(t->mem));
     ks_clocked_wake_on(t->ist.proc, memsys_prim_filled(t->mem));
     if (opts->exhaustive) {
         ks_clock_set_exhaustive(t->clk, 1);

@@ -482,6 +482,15 @@ cache_result cache_access(cache *c, uint64_t addr, uint32_t bytes, int64_t now)
     return access_lines(c, addr, bytes, now, NULL);
 }
 
+cache_result cache_probe(void *ctx, uint64_t addr, uint32_t bytes, uint64_t now, uint32_t *cycles)
+{
+    cache *c = ctx;
+    const cache_result r = access_lines(c, addr, bytes, (int64_t)now, NULL);
+    if (r == CACHE_HIT)
+        *cycles = c->last_cycles;
+    return r;
+}
+
 cache_result cache_request(cache *c, const mem_req *req, int64_t now)
 {
     return access_lines(c, req->addr, req->bytes, now, req);

@@ -80,6 +80,10 @@ const cache_params *cache_get_params(const cache *c);
  * BLOCKED nothing changed. Present lines of an accepted access become MRU.
  * `now` is the cycle (non-decreasing); ports and banks are per cycle. */
 cache_result cache_access(cache *c, uint64_t addr, uint32_t bytes, int64_t now);
+/* cache_access for a unit's synchronous probe port (the accel_probe_fn shape of
+ * accel_ray.h, ctx = the cache): on a hit *cycles gets cache_last_access_cycles.
+ * One call per probe on the hottest path of the model. */
+cache_result cache_probe(void *ctx, uint64_t addr, uint32_t bytes, uint64_t now, uint32_t *cycles);
 /* Cycles the last accepted access occupied its busiest bank. Each bank reads
  * `ports` lines per cycle, so this is 1, or ceil(k / ports) when k of its
  * lines share a bank (e.g. an unaligned 48 B read over two lines of a one-bank

@@ -299,7 +299,8 @@ static cache_result access_two(cache *c, uint64_t first, int64_t now, const mem_
 }
 
 /* Shared body of cache_access / cache_request (inlined into both). */
-static inline cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_t now, const mem_req *req)
+static inline __attribute__((always_inline)) cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes,
+                                                                    int64_t now, const mem_req *req)
 {
     if (now != c->cycle) {
         c->cycle = now;

@@ -42,6 +42,8 @@ struct cache {
     mshr *m;
     uint64_t *mline;      /* line of each MSHR, NO_LINE when free (the search key, contiguous) */
     int mshr_busy;
+    int *busy_list;       /* the busy MSHRs' indices, [0, mshr_busy) in any order (search only these) */
+    int *busy_pos;        /* position of each busy MSHR in busy_list */
     int *missq;           /* ring of MSHR indices not yet sent downstream */
     int missq_head, missq_n;
     waiter *w;
@@ -106,13 +108,15 @@ cache *cache_create(const cache_params *p, char *err, size_t errlen)
     c->stamp = calloc(nways, sizeof *c->stamp);
     c->m = calloc(p->mshrs, sizeof *c->m);
     c->mline = malloc(p->mshrs * sizeof *c->mline);
+    c->busy_list = malloc(p->mshrs * sizeof *c->busy_list);
+    c->busy_pos = malloc(p->mshrs * sizeof *c->busy_pos);
     c->missq = calloc(p->mshrs, sizeof *c->missq);
     c->w = calloc((size_t)c->nwaiters, sizeof *c->w);
     c->readyq = calloc((size_t)c->nwaiters, sizeof *c->readyq);
     c->bank_busy_until = calloc(p->banks, sizeof *c->bank_busy_until);
     c->bank_used = calloc(p->banks, sizeof *c->bank_used);
     c->bank_cycle = calloc(p->banks, sizeof *c->bank_cycle);
-    bool ok = c->tag && c->stamp && c->m && c->mline && c->missq && c->w && c->readyq && c->bank_busy_until &&
+    bool ok = c->tag && c->stamp && c->m && c->mline && c->busy_list && c->busy_pos && c->missq && c->w && c->readyq && c->bank_busy_until &&
               c->bank_used && c->bank_cycle;
     for (uint32_t i = 0; ok && i < p->mshrs; i++)
         ok = (c->m[i].wait = calloc(p->mshr_merge, sizeof(int))) != NULL;
@@ -148,6 +152,8 @@ void cache_destroy(cache *c)
     free(c->stamp);
     free(c->m);
     free(c->mline);
+    free(c->busy_list);
+    free(c->busy_pos);
     free(c->missq);
     free(c->w);
     free(c->readyq);
@@ -176,12 +182,15 @@ static inline int lookup(const cache *c, uint64_t line)
     return -1;
 }
 
-/* The busy MSHR waiting for line, or -1 (free ones hold NO_LINE). */
+/* The busy MSHR waiting for line, or -1. A line has at most one MSHR (one is
+ * allocated only when this finds none), so the search order does not matter. */
 static inline int find_mshr(const cache *c, uint64_t line)
 {
-    for (uint32_t i = 0; i < c->p.mshrs; i++)
-        if (c->mline[i] == line)
-            return (int)i;
+    for (int i = 0; i < c->mshr_busy; i++) {
+        const int k = c->busy_list[i];
+        if (c->mline[k] == line)
+            return k;
+    }
     return -1;
 }
 
@@ -215,7 +224,8 @@ static int alloc_mshr(cache *c, uint64_t line, int64_t now)
     m->since = now;
     m->nwait = 0;
     c->mline[k] = line;
-    c->mshr_busy++;
+    c->busy_pos[k] = c->mshr_busy;
+    c->busy_list[c->mshr_busy++] = k;
     c->missq[(c->missq_head + c->missq_n++) % (int)c->p.mshrs] = k;
     c->st.miss_lines++;
     if (c->hook)
@@ -555,7 +565,11 @@ int cache_fill(cache *c, const mem_resp *resp, int64_t now)
     m->busy = false;
     m->nwait = 0;
     c->mline[resp->tag] = NO_LINE;
-    c->mshr_busy--;
+    { /* drop it from the busy list: the last entry takes its place */
+        const int k = (int)resp->tag, pos = c->busy_pos[k], last = c->busy_list[--c->mshr_busy];
+        c->busy_list[pos] = last;
+        c->busy_pos[last] = pos;
+    }
     return released;
 }
 

@@ -115,14 +115,12 @@ trv_pass_result trv_core_pass(trv_core *c, accel_ray *r, uint64_t now, uint32_t 
     const int n = c->p.width;
     uint64_t keys[SORT_NET_MAX_LANES];
     float tnear[SORT_NET_MAX_LANES];
-    bool hit[SORT_NET_MAX_LANES];
-    int hits = 0;
+    uint32_t hit_bits;
     /* the used slots' slab tests against [tmin, closest], all lanes at once (trv_slab.h) */
-    c->st.box_tests += (uint64_t)trv_slab_lanes(&r->prep, node, n, r->tmin, r->closest, tnear, hit);
-    for (int i = 0; i < n; i++) {
-        keys[i] = sort_key_pack(tnear[i], (unsigned)i, hit[i]);
-        hits += hit[i];
-    }
+    c->st.box_tests += (uint64_t)trv_slab_lanes(&r->prep, node, n, r->tmin, r->closest, tnear, &hit_bits);
+    for (int i = 0; i < n; i++)
+        keys[i] = sort_key_pack(tnear[i], (unsigned)i, (hit_bits >> i) & 1);
+    const int hits = __builtin_popcount(hit_bits);
     c->st.box_lanes += (uint64_t)n;
     c->st.sort_passes++;
     c->st.sort_swaps += (uint64_t)sort_net_apply_packed_fast(c->net, keys);

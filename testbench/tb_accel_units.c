@@ -188,8 +188,8 @@ static void test_slab_lanes(void)
         rt_ray_prepare(org, dir, &prep);
         const float tmin = round % 4 ? 0.0f : slab_value(&seed), tmax = round % 5 ? INFINITY : slab_value(&seed);
         float tnear[8];
-        bool hit[8];
-        const int used = trv_slab_lanes(&prep, node, n, tmin, tmax, tnear, hit);
+        uint32_t hit_bits;
+        const int used = trv_slab_lanes(&prep, node, n, tmin, tmax, tnear, &hit_bits);
         int want_used = 0;
         for (int i = 0; i < n; i++) {
             const uint8_t *slot = node + (size_t)i * RT_SLOT_BYTES;
@@ -204,13 +204,15 @@ static void test_slab_lanes(void)
             }
             hits += h;
             cases++;
-            if (h != hit[i] || !same_float(tn, tnear[i])) {
+            const bool got = (hit_bits >> i) & 1;
+            if (h != got || !same_float(tn, tnear[i])) {
                 if (bad++ < 3)
-                    TB_CHECK(0, "round %d lane %d of %d: hit %d tnear %g, want %d %g", round, i, n, hit[i],
+                    TB_CHECK(0, "round %d lane %d of %d: hit %d tnear %g, want %d %g", round, i, n, got,
                              (double)tnear[i], h, (double)tn);
             }
         }
         TB_EQ_INT(used, want_used);
+        TB_EQ_INT(hit_bits >> n, 0);
     }
     TB_EQ_INT(bad, 0);
     TB_CHECK(hits > cases / 20 && hits < cases, "a mix of hits and misses (%ld of %ld)", hits, cases);

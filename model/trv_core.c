@@ -120,7 +120,7 @@ trv_pass_result trv_core_pass(trv_core *c, accel_ray *r, uint64_t now, uint32_t 
     c->st.box_tests += (uint64_t)trv_slab_lanes(&r->prep, node, n, r->tmin, r->closest, tnear, &hit_bits);
     for (int i = 0; i < n; i++)
         keys[i] = sort_key_pack(tnear[i], (unsigned)i, (hit_bits >> i) & 1);
-    const int hits = __builtin_popcount(hit_bits);
+    const int hits = trv_popcount8(hit_bits);
     c->st.box_lanes += (uint64_t)n;
     c->st.sort_passes++;
     c->st.sort_swaps += (uint64_t)sort_net_apply_packed_fast(c->net, keys);

@@ -28,6 +28,15 @@
 #include <emmintrin.h>
 #endif
 
+/* Set bits of an 8-bit mask (no popcnt instruction on baseline x86-64; the
+ * builtin would be a library call). */
+static inline int trv_popcount8(uint32_t x)
+{
+    x = x - ((x >> 1) & 0x55u);
+    x = (x & 0x33u) + ((x >> 2) & 0x33u);
+    return (int)((x + (x >> 4)) & 0x0Fu);
+}
+
 #if defined(__SSE2__)
 /* Lanes base..base+3 (those >= n repeat slot 0): hit bits of the used slots in
  * *hit_bits (bit k = lane base+k), tnear[base..base+4) written (4 floats: the
@@ -68,7 +77,7 @@ static inline __attribute__((always_inline)) int trv_slab_group(const rt_ray_pre
     const int used = ~_mm_movemask_ps(empty) & valid;
     *hit_bits |= (uint32_t)(_mm_movemask_ps(_mm_cmple_ps(tn, tf)) & used) << base;
     _mm_storeu_ps(tnear + base, _mm_andnot_ps(empty, tn));   /* empty slots: +0 */
-    return __builtin_popcount((unsigned)used);
+    return trv_popcount8((uint32_t)used);
 }
 #endif
 

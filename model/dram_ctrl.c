@@ -71,6 +71,11 @@ typedef struct dchan {
     uint64_t capped_mask;      /* banks 0..63 whose row hits exceed the cap */
     int64_t sched_wake;        /* no command can issue before this cycle unless the queues or
                                   bank states change (0 = unknown: run the scheduler) */
+    int scan_due;              /* a request was added since the last scan point: the next tick
+                                  is an event (dram_next_event) even when sched_wake, kept exact
+                                  by dram_add, lets it skip the scan; so the controller is ticked,
+                                  and a kernel port woken, in the same cycles as if every add
+                                  forced a rescan */
     int64_t refreshed;         /* cycle of the last refresh injection */
     dram_chan_stats st;
 } dchan;
@@ -94,7 +99,6 @@ struct dram_ctrl {
     int wq_hi, wq_lo;          /* write-mode watermarks in entries (from the percentages) */
     int pending;               /* requests not yet done, all channels (dram_pending) */
     int fast_scan;             /* one rank, <= 64 banks: pick_counted1 */
-    int writes;                /* write requests not yet done (their WR not issued) */
     int exhaustive;            /* run the scheduler every cycle, never skip (reference mode) */
     dchan *ch;
     cons_row rows[DRAM_MAX_CONSTRAINTS];
@@ -656,7 +660,6 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
     if (queue_for(ch, is_write)->n >= (is_write ? c->spec->write_queue : c->spec->read_queue))
         return false; /* = !dram_will_accept() */
     c->pending++;
-    c->writes += is_write;
     dreq r = {.addr = addr, .tag = tag, .arrive = c->clk, .depart = 0, .row = a.row,
               .rank = (uint16_t)a.rank, .bank = (uint16_t)a.bank,
               .bidx = (uint16_t)(a.rank * (uint32_t)c->nbank + a.bank), .type = is_write ? REQ_WRITE : REQ_READ, .first = 1};
@@ -675,6 +678,7 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
      * cycle folded in (as the next scan would compute it) when the next scan looks
      * at its queue; a queue it does not look at leaves it unchanged (a mode change
      * resets it). */
+    ch->scan_due = 1;
     if (ch->sched_wake && !ch->otherq.n && q == (ch->write_mode ? &ch->writeq : &ch->readq)) {
         const int64_t e = earliest(c, ch, &r, first_cmd(c, ch, &r));
         if (e < ch->sched_wake)
@@ -729,6 +733,7 @@ static void chan_tick(dram_ctrl *c, int chi)
     }
     /* 4. one command: actq first, then refresh, then the mode's queue. While nothing
      * changed since the last scan found nothing issuable, skip the scan. */
+    ch->scan_due = 0;
     if (now < ch->sched_wake && !c->exhaustive)
         return;
     int64_t lo = INT64_MAX;
@@ -784,7 +789,6 @@ static void chan_tick(dram_ctrl *c, int chi)
         c->pending--;
     } else if (done.type == REQ_WRITE) {
         c->pending--;
-        c->writes--;
         ch->st.writes_done++;
         if (c->done)
             c->done(c->done_user, done.addr, done.tag, true, now - done.arrive);
@@ -807,7 +811,7 @@ int dram_pending(const dram_ctrl *c)
 static int64_t chan_next_event(const dram_ctrl *c, dchan *ch)
 {
     const int64_t soon = c->clk + 1;
-    if (ch->sched_wake == 0 || write_mode_next(c, ch) != ch->write_mode)
+    if (ch->sched_wake == 0 || ch->scan_due || write_mode_next(c, ch) != ch->write_mode)
         return soon;
     int64_t t = ch->refreshed + c->spec->refresh_interval;
     if (ch->pend_n && ch->pend[ch->pend_head].depart < t)
@@ -828,24 +832,6 @@ int64_t dram_next_event(const dram_ctrl *c)
             break;
     }
     return t;
-}
-
-int64_t dram_next_done(const dram_ctrl *c)
-{
-    const int64_t soon = c->clk + 1;
-    if (c->writes)
-        return soon; /* a write is done when its WR issues: any tick may do it */
-    int64_t t = INT64_MAX;
-    for (int i = 0; i < c->nch; i++) {
-        const dchan *ch = &c->ch[i];
-        /* reads pop from the head of pend, at or after its depart cycle */
-        if (ch->pend_n && ch->pend[ch->pend_head].depart < t)
-            t = ch->pend[ch->pend_head].depart;
-        /* a read still queued issues its RD at soon at the earliest */
-        if (ch->readq.n + ch->actq.n && soon + c->spec->read_latency < t)
-            t = soon + c->spec->read_latency;
-    }
-    return t < soon ? soon : t;
 }
 
 void dram_set_exhaustive(dram_ctrl *c, bool on) { c->exhaustive = on; }

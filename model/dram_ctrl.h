@@ -82,11 +82,6 @@ int64_t dram_clock(const dram_ctrl *c);
 int dram_pending(const dram_ctrl *c);
 /* Lower bound (> dram_clock) on the next cycle at which dram_tick could act. */
 int64_t dram_next_event(const dram_ctrl *c);
-/* Lower bound (> dram_clock) on the next cycle at which a tick could call the
- * completion callback (INT64_MAX when no read or write is in flight): a caller
- * that only needs to see completions may sleep until then and catch up with
- * dram_advance_to. */
-int64_t dram_next_done(const dram_ctrl *c);
 /* Advances the clock over idle cycles to dram_next_event()-1; returns cycles skipped. */
 int64_t dram_skip(dram_ctrl *c);
 /* Advances the clock to `cycle` (no-op if already there or past): ticks where

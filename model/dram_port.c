@@ -233,19 +233,16 @@ static int step(void *user, uint64_t cycle)
     uint64_t made = p->progress + (uint64_t)accepted;
     uint64_t next = UINT64_MAX;
     const int drain_due = p->input_done && !p->drained && p->cur < 0 && ks_fifo_occupancy(p->req) == 0;
-    const int offering = !p->ready_n && (p->cur >= 0 || ks_fifo_can_read(p->req));
-    if ((accepted && offering) || drain_due) {
+    /* The port wakes at the controller's next event even when only a completion
+     * matters to it: sleeping until then (dram_next_done) would be exact for the
+     * memory but changes which cycles the port runs in, and with tiny response
+     * FIFOs the unit-level idle skipping is not exact on main (the full
+     * RTSIM_LPDDR3_SWEEP's stress_small cases differ from --exhaustive), so the
+     * results there would change. Kept as on main. */
+    if ((accepted && !p->ready_n && (p->cur >= 0 || ks_fifo_can_read(p->req))) || drain_due)
         next = cycle + 1;
-    } else if (dram_pending(p->c)) {
-        /* The port itself only acts on completions (deliver) and on room in the
-         * controller for a refused burst; the controller's other work (commands,
-         * refresh) happens when it is caught up, identically. So while no burst
-         * waits for room, sleep until the next possible completion; while one
-         * does (room appears when a command issues), or only refreshes remain,
-         * until the controller's next event. */
-        const int64_t done = offering ? INT64_MAX : dram_next_done(p->c);
-        next = (uint64_t)(done != INT64_MAX ? done : dram_next_event(p->c));
-    }
+    else if (dram_pending(p->c))
+        next = (uint64_t)dram_next_event(p->c);
     /* a request still in flight in the FIFO (latency): wake at its ready time
      * explicitly rather than rely on its written notification alone (an event keeps
      * one pending notification, event.h) */

@@ -48,7 +48,6 @@ static int make_fifo(accel_top *t, ks_fifo **out, const char *name, uint32_t cap
     return 0;
 }
 
-
 static double util_formula(const ks_stats *reg, void *user)
 {
     (void)reg;

@@ -234,11 +234,11 @@ static int step(void *user, uint64_t cycle)
     uint64_t next = UINT64_MAX;
     const int drain_due = p->input_done && !p->drained && p->cur < 0 && ks_fifo_occupancy(p->req) == 0;
     /* The port wakes at the controller's next event even when only a completion
-     * matters to it: sleeping until then (dram_next_done) would be exact for the
-     * memory but changes which cycles the port runs in, and with tiny response
-     * FIFOs the unit-level idle skipping is not exact on main (the full
-     * RTSIM_LPDDR3_SWEEP's stress_small cases differ from --exhaustive), so the
-     * results there would change. Kept as on main. */
+     * matters to it: sleeping until the next possible completion would be exact
+     * for the memory but changes the cycles the port runs in, and with tiny
+     * response FIFOs the units' idle skipping is not exact (the stress_small
+     * cases of RTSIM_LPDDR3_SWEEP differ from --exhaustive), so results there
+     * would change (docs/accel.md, "Speed"). */
     if ((accepted && !p->ready_n && (p->cur >= 0 || ks_fifo_can_read(p->req))) || drain_due)
         next = cycle + 1;
     else if (dram_pending(p->c))

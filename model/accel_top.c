@@ -50,16 +50,6 @@ static int make_fifo(accel_top *t, ks_fifo **out, const char *name, uint32_t cap
     return 0;
 }
 
-/* The units' synchronous cache probe (model/cache.h protocol). */
-static cache_result probe_cache(void *ctx, uint64_t addr, uint32_t bytes, uint64_t now, uint32_t *cycles)
-{
-    cache *c = ctx;
-    cache_result r = cache_access(c, addr, bytes, (int64_t)now);
-    if (r == CACHE_HIT)
-        *cycles = cache_last_access_cycles(c);
-    return r;
-}
-
 static double util_formula(const ks_stats *reg, void *user)
 {
     (void)reg;
@@ -178,10 +168,10 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
         ist_set_events(&t->ist, opts->events, opts->events_user);
 
     for (uint32_t i = 0; i < ntrv; i++) {
-        trv_set_probe(&t->trv[i], probe_cache, memsys_node_l1(t->mem, (int)i));
+        trv_set_probe(&t->trv[i], cache_probe, memsys_node_l1(t->mem, (int)i));
         ks_clocked_wake_on(t->trv[i].proc, memsys_node_l1_filled(t->mem, (int)i));
     }
-    ist_set_probe(&t->ist, probe_cache, memsys_prim(t->mem));
+    ist_set_probe(&t->ist, cache_probe, memsys_prim(t->mem));
     ks_clocked_wake_on(t->ist.proc, memsys_prim_filled(t->mem));
     if (opts->exhaustive) {
         ks_clock_set_exhaustive(t->clk, 1);
@@ -255,6 +245,10 @@ static void finish_stats(accel_top *t, uint64_t stop_cycle)
     t->stat_cycles = t->cycles;
     t->stat_rays = t->rays_done;
     t->stat_mrps = t->mrps;
+    /* DRAM statistics (cycles, background energy) up to the frame's end, not
+     * to where the simulation stopped idling */
+    if (t->mem && memsys_dram_port(t->mem))
+        dram_port_set_stats_end(memsys_dram_port(t->mem), (ks_time)t->cycles * ks_clock_period(t->clk));
     t->stat_dram_bytes = t->mem ? memsys_memory_bytes(t->mem) : 0;
     t->stat_dram_gbs = t->seconds > 0 ? (double)t->stat_dram_bytes / t->seconds / 1e9 : 0.0;
     t->stat_in_flight = sched_mean_in_flight(&t->sched, t->cycles);

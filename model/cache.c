@@ -16,6 +16,7 @@
 #include <string.h>
 
 #define MAX_LINES_PER_ACCESS 8   /* an access touches at most this many lines */
+#define NO_LINE UINT64_MAX       /* never a line number (addresses are shifted right by >= 4) */
 
 typedef struct mshr {
     bool busy;
@@ -35,11 +36,14 @@ struct cache {
     cache_params p;
     uint32_t line_shift, bank_shift, sets_per_bank;
     uint32_t nsets;
-    uint64_t *tag;        /* line number per way, nsets * ways */
+    uint64_t *tag;        /* line number per way, nsets * ways; NO_LINE while invalid */
     uint64_t *stamp;      /* 0 = invalid */
     uint64_t clock;       /* LRU stamp counter */
     mshr *m;
+    uint64_t *mline;      /* line of each MSHR, NO_LINE when free (the search key, contiguous) */
     int mshr_busy;
+    int *busy_list;       /* the busy MSHRs' indices, [0, mshr_busy) in any order (search only these) */
+    int *busy_pos;        /* position of each busy MSHR in busy_list */
     int *missq;           /* ring of MSHR indices not yet sent downstream */
     int missq_head, missq_n;
     waiter *w;
@@ -49,8 +53,8 @@ struct cache {
     int64_t cycle;        /* cycle of the port/bank bookkeeping */
     uint32_t ports_used;
     int64_t *bank_busy_until;   /* last cycle the bank is taken */
-    int64_t bank_cycle;         /* cycle of bank_used */
-    uint32_t *bank_used;        /* line reads of each bank in bank_cycle */
+    int64_t *bank_cycle;        /* per bank: the cycle its bank_used counts (else 0 reads) */
+    uint32_t *bank_used;        /* line reads of the bank in its bank_cycle */
     uint32_t last_cycles;
     cache_stats st;
     cache_miss_hook hook;
@@ -100,15 +104,20 @@ cache *cache_create(const cache_params *p, char *err, size_t errlen)
     c->nsets = c->sets_per_bank * p->banks;
     size_t nways = (size_t)c->nsets * p->ways;
     c->nwaiters = (int)(p->mshrs * p->mshr_merge);
-    c->tag = calloc(nways, sizeof *c->tag);
+    c->tag = malloc(nways * sizeof *c->tag);
     c->stamp = calloc(nways, sizeof *c->stamp);
     c->m = calloc(p->mshrs, sizeof *c->m);
+    c->mline = malloc(p->mshrs * sizeof *c->mline);
+    c->busy_list = malloc(p->mshrs * sizeof *c->busy_list);
+    c->busy_pos = malloc(p->mshrs * sizeof *c->busy_pos);
     c->missq = calloc(p->mshrs, sizeof *c->missq);
     c->w = calloc((size_t)c->nwaiters, sizeof *c->w);
     c->readyq = calloc((size_t)c->nwaiters, sizeof *c->readyq);
     c->bank_busy_until = calloc(p->banks, sizeof *c->bank_busy_until);
     c->bank_used = calloc(p->banks, sizeof *c->bank_used);
-    bool ok = c->tag && c->stamp && c->m && c->missq && c->w && c->readyq && c->bank_busy_until && c->bank_used;
+    c->bank_cycle = calloc(p->banks, sizeof *c->bank_cycle);
+    bool ok = c->tag && c->stamp && c->m && c->mline && c->busy_list && c->busy_pos && c->missq && c->w && c->readyq && c->bank_busy_until &&
+              c->bank_used && c->bank_cycle;
     for (uint32_t i = 0; ok && i < p->mshrs; i++)
         ok = (c->m[i].wait = calloc(p->mshr_merge, sizeof(int))) != NULL;
     if (!ok) {
@@ -119,10 +128,15 @@ cache *cache_create(const cache_params *p, char *err, size_t errlen)
     for (int i = 0; i < c->nwaiters; i++)
         c->w[i].next_free = i + 1 < c->nwaiters ? i + 1 : -1;
     c->free_waiter = 0;
-    for (uint32_t b = 0; b < p->banks; b++)
+    for (size_t i = 0; i < nways; i++)
+        c->tag[i] = NO_LINE;
+    for (uint32_t i = 0; i < p->mshrs; i++)
+        c->mline[i] = NO_LINE;
+    for (uint32_t b = 0; b < p->banks; b++) {
         c->bank_busy_until[b] = -1;
+        c->bank_cycle[b] = INT64_MIN;
+    }
     c->cycle = INT64_MIN;
-    c->bank_cycle = INT64_MIN;
     c->last_cycles = 1;
     return c;
 }
@@ -137,11 +151,15 @@ void cache_destroy(cache *c)
     free(c->tag);
     free(c->stamp);
     free(c->m);
+    free(c->mline);
+    free(c->busy_list);
+    free(c->busy_pos);
     free(c->missq);
     free(c->w);
     free(c->readyq);
     free(c->bank_busy_until);
     free(c->bank_used);
+    free(c->bank_cycle);
     free(c);
 }
 
@@ -153,21 +171,26 @@ static inline uint32_t set_of(const cache *c, uint64_t line)
     return bank_of(c, line) * c->sets_per_bank + (uint32_t)((line >> c->bank_shift) & (c->sets_per_bank - 1));
 }
 
-/* Way index of a present line, or -1. */
-static int lookup(const cache *c, uint64_t line)
+/* Way index of a present line, or -1 (invalid ways hold NO_LINE). */
+static inline int lookup(const cache *c, uint64_t line)
 {
-    size_t base = (size_t)set_of(c, line) * c->p.ways;
+    const size_t base = (size_t)set_of(c, line) * c->p.ways;
+    const uint64_t *t = c->tag + base;
     for (uint32_t w = 0; w < c->p.ways; w++)
-        if (c->stamp[base + w] && c->tag[base + w] == line)
+        if (t[w] == line)
             return (int)(base + w);
     return -1;
 }
 
-static int find_mshr(const cache *c, uint64_t line)
+/* The busy MSHR waiting for line, or -1. A line has at most one MSHR (one is
+ * allocated only when this finds none), so the search order does not matter. */
+static inline int find_mshr(const cache *c, uint64_t line)
 {
-    for (uint32_t i = 0; i < c->p.mshrs; i++)
-        if (c->m[i].busy && c->m[i].line == line)
-            return (int)i;
+    for (int i = 0; i < c->mshr_busy; i++) {
+        const int k = c->busy_list[i];
+        if (c->mline[k] == line)
+            return k;
+    }
     return -1;
 }
 
@@ -179,8 +202,134 @@ static int free_mshr(const cache *c)
     return -1;
 }
 
-/* Shared body of cache_access / cache_request. */
-static cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_t now, const mem_req *req)
+/* Line reads bank b has served in cycle now. */
+static inline uint32_t bank_reads(const cache *c, uint32_t b, int64_t now)
+{
+    return c->bank_cycle[b] == now ? c->bank_used[b] : 0;
+}
+
+static inline void bank_set_reads(cache *c, uint32_t b, int64_t now, uint32_t v)
+{
+    c->bank_cycle[b] = now;
+    c->bank_used[b] = v;
+}
+
+/* Takes a free MSHR for line (queued downstream; the miss hook runs). */
+static int alloc_mshr(cache *c, uint64_t line, int64_t now)
+{
+    int k = free_mshr(c);
+    mshr *m = &c->m[k];
+    m->busy = true;
+    m->line = line;
+    m->since = now;
+    m->nwait = 0;
+    c->mline[k] = line;
+    c->busy_pos[k] = c->mshr_busy;
+    c->busy_list[c->mshr_busy++] = k;
+    c->missq[(c->missq_head + c->missq_n++) % (int)c->p.mshrs] = k;
+    c->st.miss_lines++;
+    if (c->hook)
+        c->hook(c->hook_user);
+    return k;
+}
+
+static cache_result access_multi(cache *c, uint64_t first, uint64_t last, uint32_t bytes, int64_t now,
+                                 const mem_req *req);
+
+/* access_multi for two lines in two different banks (an unaligned triangle over
+ * two lines of the two-bank primitive cache): the same checks in the same order
+ * and the same effects, without the general bookkeeping. */
+/* How many of an access's need_new missing lines get a new MSHR now: all of
+ * them, or -1 (BLOCKED, counted) when they do not all fit: all or nothing.
+ * Except that a probe needing more new lines than the cache has MSHRs at all
+ * (a 48-byte triangle over two missing lines with one MSHR) could never be
+ * accepted and would loop forever: it takes the free MSHRs for its first
+ * missing lines and retries for the rest. */
+static inline int mshrs_to_take(cache *c, int need_new, const mem_req *req)
+{
+    int free_mshrs = (int)c->p.mshrs - c->mshr_busy;
+    if (need_new <= free_mshrs)
+        return need_new;
+    if (req || need_new <= (int)c->p.mshrs || free_mshrs == 0) {
+        c->st.blocked_mshr++;
+        return -1;
+    }
+    return free_mshrs;
+}
+
+static cache_result access_two(cache *c, uint64_t first, int64_t now, const mem_req *req)
+{
+    const uint64_t line[2] = {first, first + 1};
+    const uint32_t b[2] = {bank_of(c, line[0]), bank_of(c, line[1])};
+    uint32_t used[2];
+    for (int k = 0; k < 2; k++) {
+        used[k] = bank_reads(c, b[k], now);
+        if (!(c->bank_busy_until[b[k]] < now && (used[k] + 1 <= c->p.ports || used[k] == 0))) {
+            c->st.blocked_bank++;
+            return CACHE_BLOCKED;
+        }
+    }
+    int way[2], ms[2], need_new = 0, missing = 0;
+    for (int i = 0; i < 2; i++) {
+        way[i] = lookup(c, line[i]);
+        ms[i] = -1;
+        if (way[i] >= 0)
+            continue;
+        missing++;
+        ms[i] = find_mshr(c, line[i]);
+        if (ms[i] < 0)
+            need_new++;
+        else if (req && c->m[ms[i]].nwait >= (int)c->p.mshr_merge) {
+            c->st.blocked_merge++;
+            return CACHE_BLOCKED;
+        }
+    }
+    int alloc_new = mshrs_to_take(c, need_new, req);
+    if (alloc_new < 0)
+        return CACHE_BLOCKED;
+    if (req && missing && c->free_waiter < 0) {
+        c->st.blocked_merge++;
+        return CACHE_BLOCKED;
+    }
+    c->ports_used++;
+    bank_set_reads(c, b[0], now, used[0] + 1);
+    bank_set_reads(c, b[1], now, used[1] + 1);
+    c->last_cycles = 1;
+    c->st.accesses++;
+    for (int i = 0; i < 2; i++)
+        if (way[i] >= 0)
+            c->stamp[way[i]] = ++c->clock;
+    if (!missing) {
+        c->st.hits++;
+        return CACHE_HIT;
+    }
+    c->st.misses++;
+    int wi = -1;
+    if (req) {
+        wi = c->free_waiter;
+        c->free_waiter = c->w[wi].next_free;
+        c->w[wi].req = *req;
+        c->w[wi].remaining = missing;
+    }
+    for (int i = 0; i < 2; i++) {
+        if (way[i] >= 0)
+            continue;
+        int k = ms[i];
+        if (k >= 0)
+            c->st.merged++;
+        else if (alloc_new-- > 0)
+            k = alloc_mshr(c, line[i], now);
+        else
+            continue; /* a partial probe (mshrs_to_take): the rest next time */
+        if (req)
+            c->m[k].wait[c->m[k].nwait++] = wi;
+    }
+    return CACHE_MISS;
+}
+
+/* Shared body of cache_access / cache_request (inlined into both). */
+static inline __attribute__((always_inline)) cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes,
+                                                                    int64_t now, const mem_req *req)
 {
     if (now != c->cycle) {
         c->cycle = now;
@@ -193,30 +342,69 @@ static cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_
     uint64_t first = addr >> c->line_shift;
     uint64_t last = (addr + (bytes ? bytes : 1) - 1) >> c->line_shift;
     if (first == last) {
-        /* fast path: one line that is present (most node-cache probes).
-         * Exactly the general path's effects for that case: one line needs
-         * one slot of its bank's ports for one cycle. A missing line goes on
-         * to the general path, which repeats the (side-effect free) checks. */
-        uint32_t b = bank_of(c, first);
-        if (now != c->bank_cycle) {
-            c->bank_cycle = now;
-            memset(c->bank_used, 0, c->p.banks * sizeof *c->bank_used);
-        }
-        if (!(c->bank_busy_until[b] < now && (c->bank_used[b] + 1 <= c->p.ports || c->bank_used[b] == 0))) {
+        /* one line (every node-cache probe): the general path below specialised
+         * to n = 1, with the same checks in the same order and the same effects
+         * (one line needs one read of its bank for one cycle) */
+        const uint32_t b = bank_of(c, first);
+        const uint32_t used = bank_reads(c, b, now);
+        if (!(c->bank_busy_until[b] < now && (used + 1 <= c->p.ports || used == 0))) {
             c->st.blocked_bank++;
             return CACHE_BLOCKED;
         }
-        int w = lookup(c, first);
+        const int w = lookup(c, first);
         if (w >= 0) {
             c->ports_used++;
-            c->bank_used[b]++;
+            bank_set_reads(c, b, now, used + 1);
             c->last_cycles = 1;
             c->st.accesses++;
             c->stamp[w] = ++c->clock;
             c->st.hits++;
             return CACHE_HIT;
         }
+        int k = find_mshr(c, first);
+        if (k >= 0) {
+            if (req && c->m[k].nwait >= (int)c->p.mshr_merge) {
+                c->st.blocked_merge++;
+                return CACHE_BLOCKED;
+            }
+        } else if (c->mshr_busy >= (int)c->p.mshrs) {
+            c->st.blocked_mshr++;
+            return CACHE_BLOCKED;
+        }
+        if (req && c->free_waiter < 0) {
+            c->st.blocked_merge++;
+            return CACHE_BLOCKED;
+        }
+        c->ports_used++;
+        bank_set_reads(c, b, now, used + 1);
+        c->last_cycles = 1;
+        c->st.accesses++;
+        c->st.misses++;
+        int wi = -1;
+        if (req) {
+            wi = c->free_waiter;
+            c->free_waiter = c->w[wi].next_free;
+            c->w[wi].req = *req;
+            c->w[wi].remaining = 1;
+        }
+        if (k >= 0)
+            c->st.merged++;
+        else
+            k = alloc_mshr(c, first, now);
+        if (req)
+            c->m[k].wait[c->m[k].nwait++] = wi;
+        return CACHE_MISS;
     }
+    if (last == first + 1 && bank_of(c, first) != bank_of(c, last))
+        return access_two(c, first, now, req);
+    return access_multi(c, first, last, bytes, now, req);
+}
+
+/* The general path of access_lines: lines first..last (port already checked). Out of
+ * line so that the one-line path above stays small. */
+static __attribute__((noinline)) cache_result access_multi(cache *c, uint64_t first, uint64_t last, uint32_t bytes,
+                                                           int64_t now, const mem_req *req)
+{
     int n = (int)(last - first + 1);
     if (n > MAX_LINES_PER_ACCESS) {
         fprintf(stderr, "cache: access of %u bytes spans %d lines (at most %d)\n", bytes, n, MAX_LINES_PER_ACCESS);
@@ -238,15 +426,11 @@ static cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_
     /* every bank has `ports` read ports: k lines of one bank fit this cycle
      * when its ports are free enough; more than `ports` lines need a bank of
      * its own for ceil(k / ports) cycles */
-    if (now != c->bank_cycle) {
-        c->bank_cycle = now;
-        memset(c->bank_used, 0, c->p.banks * sizeof *c->bank_used);
-    }
     cycles = 1;
     for (int k = 0; k < nb; k++) {
         uint32_t b = banks_used[k];
-        bool ok = c->bank_busy_until[b] < now &&
-                  (c->bank_used[b] + per_bank[k] <= c->p.ports || c->bank_used[b] == 0);
+        const uint32_t used = bank_reads(c, b, now);
+        bool ok = c->bank_busy_until[b] < now && (used + per_bank[k] <= c->p.ports || used == 0);
         if (!ok) {
             c->st.blocked_bank++;
             return CACHE_BLOCKED;
@@ -273,18 +457,9 @@ static cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_
             return CACHE_BLOCKED;
         }
     }
-    /* All or nothing, except that a probe needing more new lines than the
-     * cache has MSHRs at all (a 48-byte triangle over two missing lines with
-     * one MSHR) could never be accepted and would loop forever: it takes the
-     * free MSHRs for its first missing lines and retries for the rest. */
-    int free_mshrs = (int)c->p.mshrs - c->mshr_busy, alloc_new = need_new;
-    if (need_new > free_mshrs) {
-        if (req || need_new <= (int)c->p.mshrs || free_mshrs == 0) {
-            c->st.blocked_mshr++;
-            return CACHE_BLOCKED;
-        }
-        alloc_new = free_mshrs;
-    }
+    int alloc_new = mshrs_to_take(c, need_new, req);
+    if (alloc_new < 0)
+        return CACHE_BLOCKED;
     if (req && missing && c->free_waiter < 0) {
         c->st.blocked_merge++;
         return CACHE_BLOCKED;
@@ -294,7 +469,7 @@ static cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_
     for (int k = 0; k < nb; k++) {
         uint32_t b = banks_used[k];
         uint32_t cyc = (per_bank[k] + c->p.ports - 1) / c->p.ports;
-        c->bank_used[b] = cyc > 1 ? c->p.ports : c->bank_used[b] + per_bank[k];
+        bank_set_reads(c, b, now, cyc > 1 ? c->p.ports : bank_reads(c, b, now) + per_bank[k]);
         if (cyc > 1)
             c->bank_busy_until[b] = now + (int64_t)cyc - 1;
     }
@@ -321,24 +496,12 @@ static cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_
         if (way[i] >= 0)
             continue;
         int k = ms[i];
-        if (k >= 0) {
+        if (k >= 0)
             c->st.merged++;
-        } else {
-            if (alloc_new == 0)
-                continue; /* the partial probe above: the rest next time */
-            alloc_new--;
-            k = free_mshr(c);
-            mshr *m = &c->m[k];
-            m->busy = true;
-            m->line = first + (uint64_t)i;
-            m->since = now;
-            m->nwait = 0;
-            c->mshr_busy++;
-            c->missq[(c->missq_head + c->missq_n++) % (int)c->p.mshrs] = k;
-            c->st.miss_lines++;
-            if (c->hook)
-                c->hook(c->hook_user);
-        }
+        else if (alloc_new-- > 0)
+            k = alloc_mshr(c, first + (uint64_t)i, now);
+        else
+            continue; /* a partial probe (mshrs_to_take): the rest next time */
         if (req)
             c->m[k].wait[c->m[k].nwait++] = wi;
     }
@@ -348,6 +511,15 @@ static cache_result access_lines(cache *c, uint64_t addr, uint32_t bytes, int64_
 cache_result cache_access(cache *c, uint64_t addr, uint32_t bytes, int64_t now)
 {
     return access_lines(c, addr, bytes, now, NULL);
+}
+
+cache_result cache_probe(void *ctx, uint64_t addr, uint32_t bytes, uint64_t now, uint32_t *cycles)
+{
+    cache *c = ctx;
+    const cache_result r = access_lines(c, addr, bytes, (int64_t)now, NULL);
+    if (r == CACHE_HIT)
+        *cycles = c->last_cycles;
+    return r;
 }
 
 cache_result cache_request(cache *c, const mem_req *req, int64_t now)
@@ -412,7 +584,12 @@ int cache_fill(cache *c, const mem_resp *resp, int64_t now)
     }
     m->busy = false;
     m->nwait = 0;
-    c->mshr_busy--;
+    c->mline[resp->tag] = NO_LINE;
+    { /* drop it from the busy list: the last entry takes its place */
+        const int k = (int)resp->tag, pos = c->busy_pos[k], last = c->busy_list[--c->mshr_busy];
+        c->busy_list[pos] = last;
+        c->busy_pos[last] = pos;
+    }
     return released;
 }
 

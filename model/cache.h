@@ -77,9 +77,16 @@ const cache_params *cache_get_params(const cache *c);
 /* Probe [addr, addr+bytes) for a requester that retries on a miss (TRV node
  * L1, IST primitive cache). Missing lines get an MSHR (or merge into one; a
  * probe records no waiter, so merging is not limited). All-or-nothing: when
- * BLOCKED nothing changed. Present lines of an accepted access become MRU.
+ * BLOCKED nothing changed; the exception is a probe needing more new lines
+ * than the cache has MSHRs at all, which could never be accepted: it gets
+ * the free MSHRs for its first missing lines (MISS) and retries for the
+ * rest. Present lines of an accepted access become MRU.
  * `now` is the cycle (non-decreasing); ports and banks are per cycle. */
 cache_result cache_access(cache *c, uint64_t addr, uint32_t bytes, int64_t now);
+/* cache_access for a unit's synchronous probe port (the accel_probe_fn shape of
+ * accel_ray.h, ctx = the cache): on a hit *cycles gets cache_last_access_cycles.
+ * One call per probe on the hottest path of the model. */
+cache_result cache_probe(void *ctx, uint64_t addr, uint32_t bytes, uint64_t now, uint32_t *cycles);
 /* Cycles the last accepted access occupied its busiest bank. Each bank reads
  * `ports` lines per cycle, so this is 1, or ceil(k / ports) when k of its
  * lines share a bank (e.g. an unaligned 48 B read over two lines of a one-bank

@@ -162,7 +162,7 @@ static int step(void *user, uint64_t cycle)
         /* released waiters need room in the response pipeline */
         if (u->outq_cap - u->outq_n >= u->p.mshr_merge) {
             mem_resp resp = {0};
-            ks_fifo_read(u->fill_in, &resp);
+            KS_FIFO_READ(u->fill_in, &resp);
             if (cache_fill(u->core, &resp, now) < 0) {
                 fprintf(stderr, "%s: fill for 0x%llx (tag %llu) matches no MSHR\n", u->name,
                         (unsigned long long)resp.addr, (unsigned long long)resp.tag);
@@ -185,13 +185,13 @@ static int step(void *user, uint64_t cycle)
             break;
         if (res == CACHE_HIT)
             outq_push(u, cycle + u->p.hit_latency + cache_last_access_cycles(u->core) - 1, r);
-        ks_fifo_read(u->req_in, NULL);
+        ks_fifo_pop(u->req_in);
         progress++;
     }
     /* 3. one miss request per cycle to the next level */
     mem_req m;
     if (u->miss_out && ks_fifo_can_write(u->miss_out) && cache_pop_miss(u->core, &m)) {
-        ks_fifo_write(u->miss_out, &m);
+        KS_FIFO_WRITE(u->miss_out, &m);
         progress++;
     }
     /* 4. responses whose latency has elapsed */
@@ -199,7 +199,7 @@ static int step(void *user, uint64_t cycle)
         pending_resp *e = &u->outq[u->outq_head];
         if (e->ready > cycle || !u->resp_out || !ks_fifo_can_write(u->resp_out))
             break;
-        ks_fifo_write(u->resp_out, &e->resp);
+        KS_FIFO_WRITE(u->resp_out, &e->resp);
         u->outq_head = (u->outq_head + 1) % u->outq_cap;
         u->outq_n--;
         progress++;

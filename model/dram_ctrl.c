@@ -28,18 +28,25 @@ typedef struct dqcount {
     uint16_t hit[2];       /* of which hit its open row, by type (REQ_READ, REQ_WRITE) */
 } dqcount;
 
+/* Bank indices per channel at most (ranks <= 8, banks <= 64: dram_timing.c). */
+#define MAX_BANK_INDEX 512
+#define BANK_WORDS (MAX_BANK_INDEX / 64)
+
 typedef struct dqueue {
     dreq *v;
     int n, cap;
     dqcount *bc;           /* per bank index (rank * banks + bank); NULL: not counted (otherq) */
+    uint64_t used[BANK_WORDS]; /* bit i: bc[i].n > 0 (the scan visits only these banks) */
+    /* banks 0..63 by request class (channels of at most 64 banks, one rank: the
+     * fast scan): entries that are no row hit, read row hits, write row hits */
+    uint64_t cls_other, cls_rd, cls_wr;
 } dqueue;
 
-/* Bank indices per channel at most (ranks <= 8, banks <= 64: dram_timing.c). */
-#define MAX_BANK_INDEX 512
-
 typedef struct dbank {
-    int64_t eff[DRAM_NCMD];    /* max of channel, rank and bank next[]: when each command may issue */
-    int64_t next[DRAM_NCMD];   /* earliest cycle each command may issue (bank constraints) */
+    int64_t next[DRAM_NCMD];   /* earliest cycle each command may issue (bank constraints); the
+                                  command may issue at the max of this and the channel's and
+                                  rank's next[] (combined where needed, not kept per bank: a
+                                  command changes the channel's next[] of every bank at once) */
     int32_t open_row;          /* -1 = closed */
     int32_t hits;              /* RD/WR to the open row since its ACT (Ramulator RowTable) */
 } dbank;
@@ -60,8 +67,15 @@ typedef struct dchan {
     drank *ranks;
     dbank *banks;              /* rank-major */
     int write_mode;
+    uint64_t open_mask;        /* banks 0..63 with an open row */
+    uint64_t capped_mask;      /* banks 0..63 whose row hits exceed the cap */
     int64_t sched_wake;        /* no command can issue before this cycle unless the queues or
                                   bank states change (0 = unknown: run the scheduler) */
+    int scan_due;              /* a request was added since the last scan point: the next tick
+                                  is an event (dram_next_event) even when sched_wake, kept exact
+                                  by dram_add, lets it skip the scan; so the controller is ticked,
+                                  and a kernel port woken, in the same cycles as if every add
+                                  forced a rescan */
     int64_t refreshed;         /* cycle of the last refresh injection */
     dram_chan_stats st;
 } dchan;
@@ -82,6 +96,9 @@ struct dram_ctrl {
     int64_t clk;
     int nch, nrank, nbank;
     int write_high_pct;
+    int wq_hi, wq_lo;          /* write-mode watermarks in entries (from the percentages) */
+    int pending;               /* requests not yet done, all channels (dram_pending) */
+    int fast_scan;             /* one rank, <= 64 banks: pick_counted1 */
     int exhaustive;            /* run the scheduler every cycle, never skip (reference mode) */
     dchan *ch;
     cons_row rows[DRAM_MAX_CONSTRAINTS];
@@ -114,6 +131,18 @@ static void q_free(dqueue *q)
     free(q->bc);
 }
 
+/* The class bits of bank bidx in q from its counters. */
+static inline void q_class_bits(dqueue *q, int bidx)
+{
+    if (bidx >= 64)
+        return;
+    const dqcount k = q->bc[bidx];
+    const uint64_t bit = 1ull << bidx;
+    q->cls_other = k.n > k.hit[0] + k.hit[1] ? q->cls_other | bit : q->cls_other & ~bit;
+    q->cls_rd = k.hit[REQ_READ] ? q->cls_rd | bit : q->cls_rd & ~bit;
+    q->cls_wr = k.hit[REQ_WRITE] ? q->cls_wr | bit : q->cls_wr & ~bit;
+}
+
 /* Per-bank counters of a counted queue: +1 or -1 for entry r given the banks' state. */
 static inline void q_count(dqueue *q, const dbank *banks, const dreq *r, int d)
 {
@@ -121,23 +150,32 @@ static inline void q_count(dqueue *q, const dbank *banks, const dreq *r, int d)
         return;
     dqcount *k = &q->bc[r->bidx];
     k->n = (uint16_t)(k->n + d);
+    const uint64_t bit = 1ull << (r->bidx & 63);
+    if (k->n)
+        q->used[r->bidx >> 6] |= bit;
+    else
+        q->used[r->bidx >> 6] &= ~bit;
     if (banks[r->bidx].open_row >= 0 && (uint32_t)banks[r->bidx].open_row == r->row)
         k->hit[r->type] = (uint16_t)(k->hit[r->type] + d);
+    q_class_bits(q, r->bidx);
 }
 
 /* Bank bidx changed its open row: recount its row hits in a counted queue. */
 static void q_recount(dqueue *q, const dbank *banks, int bidx)
 {
     dqcount *k = &q->bc[bidx];
+    if (!k->n)
+        return; /* no entries: no hits, class bits clear */
     k->hit[0] = k->hit[1] = 0;
-    if (banks[bidx].open_row < 0 || !k->n)
-        return;
-    const uint32_t row = (uint32_t)banks[bidx].open_row;
-    for (int i = 0; i < q->n; i++) {
-        const dreq *r = &q->v[i];
-        if (r->bidx == bidx && r->row == row)
-            k->hit[r->type]++;
+    if (banks[bidx].open_row >= 0) {
+        const uint32_t row = (uint32_t)banks[bidx].open_row;
+        for (int i = 0; i < q->n; i++) {
+            const dreq *r = &q->v[i];
+            if (r->bidx == bidx && r->row == row)
+                k->hit[r->type]++;
+        }
     }
+    q_class_bits(q, bidx);
 }
 
 static void q_push_raw(dqueue *q, const dreq *r)
@@ -196,6 +234,9 @@ dram_ctrl *dram_ctrl_create(const dram_spec *spec, dram_done_fn done, void *user
     c->nrank = spec->ranks;
     c->nbank = spec->banks;
     c->write_high_pct = spec->write_high_pct;
+    c->fast_scan = c->nrank == 1 && c->nbank <= 64;
+    c->wq_hi = spec->write_queue * c->write_high_pct / 100;
+    c->wq_lo = spec->write_queue * spec->write_low_pct / 100;
     /* group constraint rows by (scope, FROM), keeping file order */
     int n = 0;
     for (int s = 0; s < DRAM_NSCOPE; s++)
@@ -261,7 +302,11 @@ void dram_set_cmd_sink(dram_ctrl *c, dram_cmd_fn fn, void *user)
 const dram_spec *dram_ctrl_spec(const dram_ctrl *c) { return c->spec; }
 const dram_addrmap *dram_ctrl_addrmap(const dram_ctrl *c) { return &c->map; }
 int64_t dram_clock(const dram_ctrl *c) { return c->clk; }
-void dram_set_write_high_pct(dram_ctrl *c, int pct) { c->write_high_pct = pct; }
+void dram_set_write_high_pct(dram_ctrl *c, int pct)
+{
+    c->write_high_pct = pct;
+    c->wq_hi = c->spec->write_queue * pct / 100;
+}
 
 /* ---- readiness ---- */
 
@@ -289,25 +334,10 @@ static inline int64_t max64(int64_t a, int64_t b) { return a > b ? a : b; }
 /* Earliest cycle `cmd` for request r may issue given everything issued so far. */
 static inline int64_t earliest(const dram_ctrl *c, dchan *ch, const dreq *r, int cmd)
 {
+    const int64_t t = max64(ch->next[cmd], ch->ranks[r->rank].next[cmd]);
     if (dram_cmd_is_bank_scoped(cmd))
-        return bank_of(c, ch, r)->eff[cmd];
-    return max64(ch->next[cmd], ch->ranks[r->rank].next[cmd]);
-}
-
-/* Refreshes every bank's eff[] of a channel after its next[] values changed. */
-static void update_eff(const dram_ctrl *c, dchan *ch)
-{
-    static const int bank_cmds[4] = {DRAM_ACT, DRAM_PRE, DRAM_RD, DRAM_WR};
-    for (int r = 0; r < c->nrank; r++) {
-        const drank *rk = &ch->ranks[r];
-        dbank *b = &ch->banks[r * c->nbank];
-        for (int k = 0; k < 4; k++) {
-            const int cmd = bank_cmds[k];
-            const int64_t t = max64(ch->next[cmd], rk->next[cmd]);
-            for (int i = 0; i < c->nbank; i++)
-                b[i].eff[cmd] = max64(t, b[i].next[cmd]);
-        }
-    }
+        return max64(t, bank_of(c, ch, r)->next[cmd]);
+    return t;
 }
 
 /* FR-FCFS-Cap head: the oldest request that is ready with <= cap row hits, else the
@@ -355,6 +385,76 @@ static inline int counted_ready(const dbank *b, const dreq *r, const uint8_t *ma
     return mask[r->bidx] & READY_OTHER;
 }
 
+/* Readiness of the classes of banks 0..63 (one bit per bank each). */
+typedef struct class_ready {
+    uint64_t other, rd, wr;
+} class_ready;
+
+static inline int class_ready_has(const dbank *b, const dreq *r, const class_ready *cr)
+{
+    const uint64_t bit = 1ull << r->bidx;
+    if (b->open_row >= 0 && (uint32_t)b->open_row == r->row)
+        return (r->type == REQ_WRITE ? cr->wr : cr->rd) & bit ? 1 : 0;
+    return cr->other & bit ? 1 : 0;
+}
+
+/* One command class of pick_counted1: banks `bits` need `cmd`; their earliest cycle
+ * is max(channel/rank bound, bank next[cmd]). Folds the class minimum into *lo
+ * (min over banks of the max = the max with the banks' minimum) and returns the
+ * banks ready at now. */
+static inline uint64_t class_scan(const dchan *ch, uint64_t bits, int cmd, int64_t now, int64_t *lo)
+{
+    if (!bits)
+        return 0;
+    const int64_t t = max64(ch->next[cmd], ch->ranks[0].next[cmd]);
+    int64_t mn = INT64_MAX;
+    uint64_t rdy = 0;
+    for (; bits; bits &= bits - 1) {
+        const int i = __builtin_ctzll(bits);
+        const int64_t x = ch->banks[i].next[cmd];
+        mn = x < mn ? x : mn;
+        rdy |= (uint64_t)(x <= now) << i;
+    }
+    const int64_t e = max64(t, mn);
+    if (e < *lo)
+        *lo = e;
+    return t <= now ? rdy : 0;
+}
+
+/* pick_counted for a channel of one rank with at most 64 banks (LPDDR3: 8), the
+ * same result from bank bitmasks: per class (ACT for closed banks with non-hit
+ * entries, PRE for open ones, RD and WR row hits) the banks' minimum and ready set. */
+static int pick_counted1(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, int64_t *min_earliest)
+{
+    const int64_t now = c->clk;
+    int64_t lo = *min_earliest;
+    class_ready cr;
+    cr.other = class_scan(ch, q->cls_other & ~ch->open_mask, DRAM_ACT, now, &lo) |
+               class_scan(ch, q->cls_other & ch->open_mask, DRAM_PRE, now, &lo);
+    cr.rd = class_scan(ch, q->cls_rd, DRAM_RD, now, &lo) & ~ch->capped_mask;
+    cr.wr = class_scan(ch, q->cls_wr, DRAM_WR, now, &lo) & ~ch->capped_mask;
+    *min_earliest = lo;
+    const int any = (cr.other | cr.rd | cr.wr) != 0;
+    if (sorted) {
+        if (any)
+            for (int i = 0; i < q->n; i++)
+                if (class_ready_has(&ch->banks[q->v[i].bidx], &q->v[i], &cr))
+                    return i;
+        return 0;
+    }
+    int best = 0, best_ready = any ? -1 : 0; /* without ready entries, the oldest of all */
+    for (int i = 0; i < q->n; i++) {
+        const dreq *r = &q->v[i];
+        if (any && !class_ready_has(&ch->banks[r->bidx], r, &cr))
+            continue;
+        if (best_ready < 0 || r->arrive < q->v[best].arrive) {
+            best = i;
+            best_ready = 1;
+        }
+    }
+    return best;
+}
+
 /* pick() for a counted queue, with the same result: per bank, the requests fall in
  * three classes (row hits by reads, by writes, and the rest: ACT if the bank is
  * closed, PRE if another row is open) that share their next command and thus their
@@ -364,34 +464,52 @@ static int pick_counted(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, in
 {
     if (q->n == 0)
         return -1;
-    const int nb = c->nrank * c->nbank, cap = c->spec->row_hit_cap;
+    if (c->fast_scan)
+        return pick_counted1(c, ch, q, sorted, min_earliest);
+    const int cap = c->spec->row_hit_cap;
     const int64_t now = c->clk;
     int64_t lo = *min_earliest;
+    /* mask[] is written for every bank with entries: the only ones read below */
     uint8_t mask[MAX_BANK_INDEX];
     int any = 0;
-    for (int i = 0; i < nb; i++) {
-        mask[i] = 0;
-        const dqcount k = q->bc[i];
-        if (!k.n)
-            continue;
-        const dbank *b = &ch->banks[i];
-        const int hr = k.hit[REQ_READ], hw = k.hit[REQ_WRITE];
-        if (k.n > hr + hw) {
-            const int64_t e = b->eff[b->open_row < 0 ? DRAM_ACT : DRAM_PRE];
-            lo = e < lo ? e : lo;
-            mask[i] |= e <= now ? READY_OTHER : 0;
+    /* channel and rank bounds of the four bank commands, per rank */
+    int64_t t_act = 0, t_pre = 0, t_rd = 0, t_wr = 0;
+    int cur_rank = -1;
+    const int words = (c->nrank * c->nbank + 63) >> 6;
+    for (int w = 0; w < words; w++) {
+        for (uint64_t bits = q->used[w]; bits; bits &= bits - 1) {
+            const int i = (w << 6) + __builtin_ctzll(bits);
+            const int rk = c->nrank == 1 ? 0 : i / c->nbank;
+            if (rk != cur_rank) {
+                const int64_t *cn = ch->next, *rn = ch->ranks[rk].next;
+                t_act = max64(cn[DRAM_ACT], rn[DRAM_ACT]);
+                t_pre = max64(cn[DRAM_PRE], rn[DRAM_PRE]);
+                t_rd = max64(cn[DRAM_RD], rn[DRAM_RD]);
+                t_wr = max64(cn[DRAM_WR], rn[DRAM_WR]);
+                cur_rank = rk;
+            }
+            const dqcount k = q->bc[i];
+            const dbank *b = &ch->banks[i];
+            const int hr = k.hit[REQ_READ], hw = k.hit[REQ_WRITE];
+            int m = 0;
+            if (k.n > hr + hw) {
+                const int64_t e = b->open_row < 0 ? max64(t_act, b->next[DRAM_ACT]) : max64(t_pre, b->next[DRAM_PRE]);
+                lo = e < lo ? e : lo;
+                m |= e <= now ? READY_OTHER : 0;
+            }
+            if (hr) {
+                const int64_t e = max64(t_rd, b->next[DRAM_RD]);
+                lo = e < lo ? e : lo;
+                m |= e <= now && b->hits <= cap ? READY_HIT_RD : 0;
+            }
+            if (hw) {
+                const int64_t e = max64(t_wr, b->next[DRAM_WR]);
+                lo = e < lo ? e : lo;
+                m |= e <= now && b->hits <= cap ? READY_HIT_WR : 0;
+            }
+            mask[i] = (uint8_t)m;
+            any |= m;
         }
-        if (hr) {
-            const int64_t e = b->eff[DRAM_RD];
-            lo = e < lo ? e : lo;
-            mask[i] |= e <= now && b->hits <= cap ? READY_HIT_RD : 0;
-        }
-        if (hw) {
-            const int64_t e = b->eff[DRAM_WR];
-            lo = e < lo ? e : lo;
-            mask[i] |= e <= now && b->hits <= cap ? READY_HIT_WR : 0;
-        }
-        any |= mask[i];
     }
     *min_earliest = lo;
     int best = 0;
@@ -446,12 +564,24 @@ static void bank_row_changed(dchan *ch, int bidx)
     q_recount(&ch->actq, ch->banks, bidx);
 }
 
-static void close_bank(dchan *ch, drank *rk, dbank *b, int64_t now)
+/* Mirrors bank bidx's open state and hit cap into the channel's masks. */
+static inline void bank_bits(const dram_ctrl *c, dchan *ch, int bidx)
+{
+    if (bidx >= 64)
+        return;
+    const dbank *b = &ch->banks[bidx];
+    const uint64_t bit = 1ull << bidx;
+    ch->open_mask = b->open_row >= 0 ? ch->open_mask | bit : ch->open_mask & ~bit;
+    ch->capped_mask = b->hits > c->spec->row_hit_cap ? ch->capped_mask | bit : ch->capped_mask & ~bit;
+}
+
+static void close_bank(const dram_ctrl *c, dchan *ch, drank *rk, dbank *b, int64_t now)
 {
     if (b->open_row < 0)
         return;
     b->open_row = -1;
     b->hits = 0;
+    bank_bits(c, ch, (int)(b - ch->banks));
     bank_row_changed(ch, (int)(b - ch->banks));
     ch->st.n_pre_banks++;
     if (--rk->nopen == 0)
@@ -477,25 +607,26 @@ static void issue(dram_ctrl *c, int chi, int cmd, int rank, int bank, uint32_t r
                 if (b != bank)
                     apply_rows(c, DRAM_SCOPE_SIBLING, cmd, banks[b].next, NULL, now);
     }
-    update_eff(c, ch);
     switch (cmd) {
     case DRAM_ACT:
         banks[bank].open_row = (int32_t)row;
         banks[bank].hits = 0;
+        bank_bits(c, ch, rank * c->nbank + bank);
         bank_row_changed(ch, rank * c->nbank + bank);
         if (rk->nopen++ == 0)
             rk->open_since = now;
         break;
     case DRAM_PRE:
-        close_bank(ch, rk, &banks[bank], now);
+        close_bank(c, ch, rk, &banks[bank], now);
         break;
     case DRAM_PREA:
         for (int b = 0; b < c->nbank; b++)
-            close_bank(ch, rk, &banks[b], now);
+            close_bank(c, ch, rk, &banks[b], now);
         break;
     case DRAM_RD:
     case DRAM_WR:
         banks[bank].hits++;
+        bank_bits(c, ch, rank * c->nbank + bank);
         break;
     default:
         break;
@@ -523,11 +654,12 @@ bool dram_will_accept(const dram_ctrl *c, uint64_t addr, bool is_write)
 
 bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
 {
-    if (!dram_will_accept(c, addr, is_write))
-        return false;
     dram_addr a;
     dram_addrmap_decode(&c->map, addr, &a);
     dchan *ch = &c->ch[a.channel];
+    if (queue_for(ch, is_write)->n >= (is_write ? c->spec->write_queue : c->spec->read_queue))
+        return false; /* = !dram_will_accept() */
+    c->pending++;
     dreq r = {.addr = addr, .tag = tag, .arrive = c->clk, .depart = 0, .row = a.row,
               .rank = (uint16_t)a.rank, .bank = (uint16_t)a.bank,
               .bidx = (uint16_t)(a.rank * (uint32_t)c->nbank + a.bank), .type = is_write ? REQ_WRITE : REQ_READ, .first = 1};
@@ -539,15 +671,25 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
                 pend_push(ch, &r);
                 return true;
             }
-    q_push(queue_for(ch, is_write), ch->banks, &r);
-    ch->sched_wake = 0;
+    dqueue *q = queue_for(ch, is_write);
+    q_push(q, ch->banks, &r);
+    /* The last scan found nothing issuable before sched_wake and nothing changed
+     * since but this entry: the bound stays valid with the entry's own earliest
+     * cycle folded in (as the next scan would compute it) when the next scan looks
+     * at its queue; a queue it does not look at leaves it unchanged (a mode change
+     * resets it). */
+    ch->scan_due = 1;
+    if (ch->sched_wake && !ch->otherq.n && q == (ch->write_mode ? &ch->writeq : &ch->readq)) {
+        const int64_t e = earliest(c, ch, &r, first_cmd(c, ch, &r));
+        if (e < ch->sched_wake)
+            ch->sched_wake = e > 0 ? e : 0;
+    }
     return true;
 }
 
 static int write_mode_next(const dram_ctrl *c, const dchan *ch)
 {
-    const int hi = c->spec->write_queue * c->write_high_pct / 100;
-    const int lo = c->spec->write_queue * c->spec->write_low_pct / 100;
+    const int hi = c->wq_hi, lo = c->wq_lo;
     if (!ch->write_mode)
         return ch->writeq.n > hi || ch->readq.n == 0;
     return !(ch->writeq.n < lo && ch->readq.n != 0);
@@ -563,6 +705,7 @@ static void chan_tick(dram_ctrl *c, int chi)
         dreq r = ch->pend[ch->pend_head];
         ch->pend_head = (ch->pend_head + 1) % ch->pend_cap;
         ch->pend_n--;
+        c->pending--;
         int64_t lat = r.depart - r.arrive;
         if (lat > 1) {
             ch->st.reads_done++;
@@ -577,6 +720,7 @@ static void chan_tick(dram_ctrl *c, int chi)
             dreq r = {.arrive = now, .rank = (uint16_t)rk, .bidx = (uint16_t)(rk * c->nbank), .type = REQ_REFRESH,
                       .first = 0};
             q_push(&ch->otherq, ch->banks, &r);
+            c->pending++;
         }
         ch->refreshed = now;
         ch->sched_wake = 0;
@@ -589,6 +733,7 @@ static void chan_tick(dram_ctrl *c, int chi)
     }
     /* 4. one command: actq first, then refresh, then the mode's queue. While nothing
      * changed since the last scan found nothing issuable, skip the scan. */
+    ch->scan_due = 0;
     if (now < ch->sched_wake && !c->exhaustive)
         return;
     int64_t lo = INT64_MAX;
@@ -640,7 +785,10 @@ static void chan_tick(dram_ctrl *c, int chi)
     if (done.type == REQ_READ) {
         done.depart = now + c->spec->read_latency;
         pend_push(ch, &done);
+    } else if (done.type == REQ_REFRESH) {
+        c->pending--;
     } else if (done.type == REQ_WRITE) {
+        c->pending--;
         ch->st.writes_done++;
         if (c->done)
             c->done(c->done_user, done.addr, done.tag, true, now - done.arrive);
@@ -656,18 +804,14 @@ void dram_tick(dram_ctrl *c)
 
 int dram_pending(const dram_ctrl *c)
 {
-    int n = 0;
-    for (int i = 0; i < c->nch; i++) {
-        const dchan *ch = &c->ch[i];
-        n += ch->readq.n + ch->writeq.n + ch->actq.n + ch->otherq.n + ch->pend_n;
-    }
-    return n;
+    /* = the sum over channels of readq + writeq + actq + otherq + pend, kept as a count */
+    return c->pending;
 }
 
 static int64_t chan_next_event(const dram_ctrl *c, dchan *ch)
 {
     const int64_t soon = c->clk + 1;
-    if (ch->sched_wake == 0 || write_mode_next(c, ch) != ch->write_mode)
+    if (ch->sched_wake == 0 || ch->scan_due || write_mode_next(c, ch) != ch->write_mode)
         return soon;
     int64_t t = ch->refreshed + c->spec->refresh_interval;
     if (ch->pend_n && ch->pend[ch->pend_head].depart < t)

@@ -72,8 +72,14 @@ void dram_port_destroy(dram_port *p);
 ks_clock *dram_port_clock(const dram_port *p);
 /* The controller (for inspection; catch it up with dram_port_sync first). */
 dram_ctrl *dram_port_ctrl(const dram_port *p);
-/* Catches the controller up to the current sim time (bit-identical). */
+/* Catches the controller up to the current sim time (bit-identical), or to
+ * the end time set with dram_port_set_stats_end when that is earlier. */
 void dram_port_sync(dram_port *p);
+/* The time the statistics end at (e.g. the accelerator's frame end): the
+ * controller is caught up no further than its DRAM cycle when statistics are
+ * read, so they do not depend on how long the simulation went on idling
+ * (with --exhaustive the DRAM clock may tick once more after the frame). */
+void dram_port_set_stats_end(dram_port *p, ks_time t);
 /* Forwards every issued command (e.g. to a timing checker), in issue order. */
 void dram_port_set_cmd_sink(dram_port *p, dram_cmd_fn fn, void *user);
 /* The producer will send no more requests: once the request FIFO is empty, queued

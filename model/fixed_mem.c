@@ -47,7 +47,7 @@ static int step(void *user, uint64_t cycle)
     const mem_req *r = ks_fifo_peek(m->req_in);
     if (r && m->n < m->cap) {
         mem_req req = {0};
-        ks_fifo_read(m->req_in, &req);
+        KS_FIFO_READ(m->req_in, &req);
         uint64_t start = cycle * FRAC > m->bus_free ? cycle * FRAC : m->bus_free;
         uint64_t xfer = (uint64_t)req.bytes * m->frac_per_byte;
         m->bus_free = start + xfer;
@@ -67,7 +67,7 @@ static int step(void *user, uint64_t cycle)
     }
     if (m->n && m->q[m->head].ready <= cycle && ks_fifo_can_write(m->resp_out)) {
         inflight *e = &m->q[m->head];
-        ks_fifo_write(m->resp_out, &e->resp);
+        KS_FIFO_WRITE(m->resp_out, &e->resp);
         m->latency_sum += cycle - e->accepted;
         m->head = (m->head + 1) % m->cap;
         m->n--;

@@ -159,7 +159,7 @@ static int ist_step(void *user, uint64_t cycle)
             trv_msg m = {it.ray, 0};
             if (out) {
                 u->rays_in_unit--;
-                ks_fifo_write(out, &m);
+                KS_FIFO_WRITE(out, &m);
             } else {
                 pipe_ring_push(&u->loop, it.ray, 0, cycle);
             }
@@ -181,7 +181,7 @@ static int ist_step(void *user, uint64_t cycle)
         } else {
             for (uint32_t k = 0; k < u->ntrv; k++) {
                 uint32_t i = (u->rr + k) % u->ntrv;
-                if (ks_fifo_can_read(u->in[i]) && ks_fifo_read(u->in[i], &m)) {
+                if (ks_fifo_can_read(u->in[i]) && KS_FIFO_READ(u->in[i], &m)) {
                     u->cur = m.ray;
                     u->rays_in_unit++;
                     u->rr = (i + 1) % u->ntrv;

@@ -47,9 +47,9 @@ static int step(void *user, uint64_t cycle)
         }
         if (pick >= 0) {
             mem_req r = {0};
-            ks_fifo_read(a->req_in[pick], &r);
+            KS_FIFO_READ(a->req_in[pick], &r);
             r.src = (uint16_t)(r.src * a->n + pick);
-            ks_fifo_write(a->req_out, &r);
+            KS_FIFO_WRITE(a->req_out, &r);
             a->last = pick;
             a->grants++;
             a->grants_per[pick]++;
@@ -67,9 +67,9 @@ static int step(void *user, uint64_t cycle)
         }
         if (ks_fifo_can_write(out)) {
             mem_resp r = {0};
-            ks_fifo_read(a->resp_in, &r);
+            KS_FIFO_READ(a->resp_in, &r);
             r.src = (uint16_t)(r.src / a->n);
-            ks_fifo_write(out, &r);
+            KS_FIFO_WRITE(out, &r);
             a->responses++;
             progress++;
         }

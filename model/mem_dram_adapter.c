@@ -45,7 +45,7 @@ static int step(void *user, uint64_t cycle)
     int progress = 0;
     if (a->free_head >= 0 && ks_fifo_can_read(a->mem_in) && ks_fifo_can_write(a->dram_req)) {
         mem_req r = {0};
-        ks_fifo_read(a->mem_in, &r);
+        KS_FIFO_READ(a->mem_in, &r);
         int k = a->free_head;
         a->free_head = a->s[k].next_free;
         a->used++;
@@ -54,21 +54,21 @@ static int step(void *user, uint64_t cycle)
         a->s[k].bytes = r.bytes;
         a->s[k].sent = cycle;
         dram_port_req d = {r.addr, (uint64_t)k, r.bytes, r.is_write};
-        ks_fifo_write(a->dram_req, &d);
+        KS_FIFO_WRITE(a->dram_req, &d);
         a->requests++;
         a->bytes += r.bytes;
         progress++;
     }
     if (ks_fifo_can_read(a->dram_resp) && ks_fifo_can_write(a->mem_out)) {
         dram_port_resp d = {0};
-        ks_fifo_read(a->dram_resp, &d);
+        KS_FIFO_READ(a->dram_resp, &d);
         if (d.tag >= a->cap) {
             fprintf(stderr, "%s: DRAM response with unknown tag %llu\n", a->name, (unsigned long long)d.tag);
             abort(); /* wiring bug */
         }
         slot *s = &a->s[d.tag];
         mem_resp r = {d.addr, s->bytes, s->src, 0, s->tag};
-        ks_fifo_write(a->mem_out, &r);
+        KS_FIFO_WRITE(a->mem_out, &r);
         a->latency_sum += cycle - s->sent;
         s->next_free = a->free_head;
         a->free_head = (int)d.tag;

@@ -204,7 +204,7 @@ static int sched_step(void *user, uint64_t cycle)
     int progress = 0;
     for (uint32_t i = 0; i < s->ntrv; i++) {
         trv_msg m;
-        if (ks_fifo_can_read(s->from_trv[i]) && ks_fifo_read(s->from_trv[i], &m)) {
+        if (ks_fifo_can_read(s->from_trv[i]) && KS_FIFO_READ(s->from_trv[i], &m)) {
             complete(s, m.ray, cycle);
             progress++;
         }
@@ -247,7 +247,7 @@ static int sched_step(void *user, uint64_t cycle)
         r->slot = slot;
         r->admit_cycle = cycle;
         trv_msg m = {rec, 0};
-        ks_fifo_write(s->to_trv[t], &m);
+        KS_FIFO_WRITE(s->to_trv[t], &m);
         account_in_flight(s, cycle);
         s->in_flight++;
         if (s->in_flight > s->max_in_flight)

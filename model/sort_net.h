@@ -103,4 +103,37 @@ static inline int sort_net_apply_packed(const sort_net *net, uint64_t *keys)
     return swaps;
 }
 
+/* sort_net_apply_packed for the 2- and 4-lane networks (BVH2, MBVH4: every node
+ * visit of the simulation) with the comparators as constants, so the keys stay in
+ * registers; the same comparators in the same order as the tables of sort_net.c
+ * (4 lanes: paper Fig. 4), hence the same order and swap count. Other widths use
+ * the table. */
+#define SORT_NET_CX_(k, a, b, swaps)                \
+    do {                                            \
+        const uint64_t x_ = k[a], y_ = k[b];        \
+        const int sw_ = y_ < x_;                    \
+        k[a] = sw_ ? y_ : x_;                       \
+        k[b] = sw_ ? x_ : y_;                       \
+        swaps += sw_;                               \
+    } while (0)
+static inline int sort_net_apply_packed_fast(const sort_net *net, uint64_t *keys)
+{
+    int swaps = 0;
+    if (net->lanes == 4) {
+        uint64_t k[4] = {keys[0], keys[1], keys[2], keys[3]};
+        SORT_NET_CX_(k, 0, 1, swaps);
+        SORT_NET_CX_(k, 2, 3, swaps);
+        SORT_NET_CX_(k, 0, 2, swaps);
+        SORT_NET_CX_(k, 1, 3, swaps);
+        SORT_NET_CX_(k, 1, 2, swaps);
+        memcpy(keys, k, sizeof k);
+        return swaps;
+    }
+    if (net->lanes == 2) {
+        SORT_NET_CX_(keys, 0, 1, swaps);
+        return swaps;
+    }
+    return sort_net_apply_packed(net, keys);
+}
+
 #endif

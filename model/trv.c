@@ -228,7 +228,7 @@ static int trv_step(void *user, uint64_t cycle)
             trv_msg m = {it.ray, 0};
             if (out) {
                 t->rays_in_unit--;
-                ks_fifo_write(out, &m);
+                KS_FIFO_WRITE(out, &m);
             } else {
                 pipe_ring_push(&t->loop, it.ray, 0, cycle);
             }
@@ -251,13 +251,13 @@ static int trv_step(void *user, uint64_t cycle)
     } else if (!pipe_ring_full(&t->pipe)) {
         trv_msg m;
         bool got = true;
-        if (ks_fifo_can_read(t->in_ist) && ks_fifo_read(t->in_ist, &m)) {
+        if (ks_fifo_can_read(t->in_ist) && KS_FIFO_READ(t->in_ist, &m)) {
             t->issue_ist++;
             t->rays_in_unit++;
         } else if (pipe_ring_ready(&t->loop, cycle)) {
             m.ray = pipe_ring_pop(&t->loop).ray;
             t->issue_loop++;
-        } else if (ks_fifo_can_read(t->in_new) && ks_fifo_read(t->in_new, &m)) {
+        } else if (ks_fifo_can_read(t->in_new) && KS_FIFO_READ(t->in_new, &m)) {
             t->issue_new++;
             t->rays_in_unit++;
         } else {

@@ -4,6 +4,8 @@
 #include <stdio.h>
 #include <string.h>
 
+#include "model/trv_slab.h"
+
 bool trv_core_init(trv_core *c, const trv_core_params *p, const accel_image *img, accel_probe_fn probe,
                    void *probe_ctx, char *err, unsigned errlen)
 {
@@ -113,26 +115,15 @@ trv_pass_result trv_core_pass(trv_core *c, accel_ray *r, uint64_t now, uint32_t 
     const int n = c->p.width;
     uint64_t keys[SORT_NET_MAX_LANES];
     float tnear[SORT_NET_MAX_LANES];
-    int hits = 0;
-    for (int i = 0; i < n; i++) {
-        const uint8_t *slot = node + (size_t)i * RT_SLOT_BYTES;
-        uint32_t meta;
-        memcpy(&meta, slot + 28, sizeof meta);
-        float lohi[6];
-        memcpy(lohi, slot, sizeof lohi);
-        float tn = 0.0f;
-        bool hit = false;
-        if (!(meta & RT_META_EMPTY)) {
-            c->st.box_tests++;
-            hit = rt_slab_test(&r->prep, lohi, lohi + 3, r->tmin, r->closest, &tn);
-        }
-        tnear[i] = tn;
-        keys[i] = sort_key_pack(tn, (unsigned)i, hit);
-        hits += hit;
-    }
+    uint32_t hit_bits;
+    /* the used slots' slab tests against [tmin, closest], all lanes at once (trv_slab.h) */
+    c->st.box_tests += (uint64_t)trv_slab_lanes(&r->prep, node, n, r->tmin, r->closest, tnear, &hit_bits);
+    for (int i = 0; i < n; i++)
+        keys[i] = sort_key_pack(tnear[i], (unsigned)i, (hit_bits >> i) & 1);
+    const int hits = trv_popcount8(hit_bits);
     c->st.box_lanes += (uint64_t)n;
     c->st.sort_passes++;
-    c->st.sort_swaps += (uint64_t)sort_net_apply_packed(c->net, keys);
+    c->st.sort_swaps += (uint64_t)sort_net_apply_packed_fast(c->net, keys);
     if (hits == 0)
         return pop_next(c, r, stack_cycles);
 

@@ -257,46 +257,51 @@ static inline int mshrs_to_take(cache *c, int need_new, const mem_req *req)
     return free_mshrs;
 }
 
-static cache_result access_two(cache *c, uint64_t first, int64_t now, const mem_req *req)
+/* Classifies lines first..first+n-1 of a multi-line access: present (way),
+ * pending (ms: its MSHR), or new misses. Returns how many new lines get an
+ * MSHR (mshrs_to_take), or -1 when the access is BLOCKED (counted): an MSHR
+ * it would merge into has mshr_merge waiters, the MSHRs do not suffice, or
+ * a request finds no free waiter slot. */
+static inline __attribute__((always_inline)) int classify_lines(cache *c, uint64_t first, int n, int *way, int *ms,
+                                                                 int *missing, const mem_req *req)
 {
-    const uint64_t line[2] = {first, first + 1};
-    const uint32_t b[2] = {bank_of(c, line[0]), bank_of(c, line[1])};
-    uint32_t used[2];
-    for (int k = 0; k < 2; k++) {
-        used[k] = bank_reads(c, b[k], now);
-        if (!(c->bank_busy_until[b[k]] < now && (used[k] + 1 <= c->p.ports || used[k] == 0))) {
-            c->st.blocked_bank++;
-            return CACHE_BLOCKED;
-        }
-    }
-    int way[2], ms[2], need_new = 0, missing = 0;
-    for (int i = 0; i < 2; i++) {
-        way[i] = lookup(c, line[i]);
+    int need_new = 0;
+    *missing = 0;
+    for (int i = 0; i < n; i++) {
+        uint64_t line = first + (uint64_t)i;
+        way[i] = lookup(c, line);
         ms[i] = -1;
         if (way[i] >= 0)
             continue;
-        missing++;
-        ms[i] = find_mshr(c, line[i]);
+        ++*missing;
+        ms[i] = find_mshr(c, line);
         if (ms[i] < 0)
             need_new++;
         else if (req && c->m[ms[i]].nwait >= (int)c->p.mshr_merge) {
             c->st.blocked_merge++;
-            return CACHE_BLOCKED;
+            return -1;
         }
     }
     int alloc_new = mshrs_to_take(c, need_new, req);
     if (alloc_new < 0)
-        return CACHE_BLOCKED;
-    if (req && missing && c->free_waiter < 0) {
+        return -1;
+    if (req && *missing && c->free_waiter < 0) {
         c->st.blocked_merge++;
-        return CACHE_BLOCKED;
+        return -1;
     }
-    c->ports_used++;
-    bank_set_reads(c, b[0], now, used[0] + 1);
-    bank_set_reads(c, b[1], now, used[1] + 1);
-    c->last_cycles = 1;
+    return alloc_new;
+}
+
+/* The common end of an accepted multi-line access (lines first..first+n-1,
+ * port and banks already taken): LRU stamps of the present lines, hit or
+ * miss counts, the request's waiter, MSHRs for up to alloc_new new lines
+ * and merges into pending ones. */
+static inline __attribute__((always_inline)) cache_result accept_lines(cache *c, uint64_t first, int n, const int *way,
+                                                                    const int *ms, int missing, int alloc_new,
+                                                                    const mem_req *req, int64_t now)
+{
     c->st.accesses++;
-    for (int i = 0; i < 2; i++)
+    for (int i = 0; i < n; i++)
         if (way[i] >= 0)
             c->stamp[way[i]] = ++c->clock;
     if (!missing) {
@@ -311,20 +316,43 @@ static cache_result access_two(cache *c, uint64_t first, int64_t now, const mem_
         c->w[wi].req = *req;
         c->w[wi].remaining = missing;
     }
-    for (int i = 0; i < 2; i++) {
+    for (int i = 0; i < n; i++) {
         if (way[i] >= 0)
             continue;
         int k = ms[i];
         if (k >= 0)
             c->st.merged++;
         else if (alloc_new-- > 0)
-            k = alloc_mshr(c, line[i], now);
+            k = alloc_mshr(c, first + (uint64_t)i, now);
         else
             continue; /* a partial probe (mshrs_to_take): the rest next time */
         if (req)
             c->m[k].wait[c->m[k].nwait++] = wi;
     }
     return CACHE_MISS;
+}
+
+static cache_result access_two(cache *c, uint64_t first, int64_t now, const mem_req *req)
+{
+    const uint64_t line[2] = {first, first + 1};
+    const uint32_t b[2] = {bank_of(c, line[0]), bank_of(c, line[1])};
+    uint32_t used[2];
+    for (int k = 0; k < 2; k++) {
+        used[k] = bank_reads(c, b[k], now);
+        if (!(c->bank_busy_until[b[k]] < now && (used[k] + 1 <= c->p.ports || used[k] == 0))) {
+            c->st.blocked_bank++;
+            return CACHE_BLOCKED;
+        }
+    }
+    int way[2], ms[2], missing;
+    int alloc_new = classify_lines(c, first, 2, way, ms, &missing, req);
+    if (alloc_new < 0)
+        return CACHE_BLOCKED;
+    c->ports_used++;
+    bank_set_reads(c, b[0], now, used[0] + 1);
+    bank_set_reads(c, b[1], now, used[1] + 1);
+    c->last_cycles = 1;
+    return accept_lines(c, first, 2, way, ms, missing, alloc_new, req, now);
 }
 
 /* Shared body of cache_access / cache_request (inlined into both). */
@@ -439,31 +467,10 @@ static __attribute__((noinline)) cache_result access_multi(cache *c, uint64_t fi
         if (cyc > cycles)
             cycles = cyc;
     }
-    /* classify lines: present, pending (MSHR), new miss */
-    int way[MAX_LINES_PER_ACCESS], ms[MAX_LINES_PER_ACCESS];
-    int need_new = 0, missing = 0;
-    for (int i = 0; i < n; i++) {
-        uint64_t line = first + (uint64_t)i;
-        way[i] = lookup(c, line);
-        ms[i] = -1;
-        if (way[i] >= 0)
-            continue;
-        missing++;
-        ms[i] = find_mshr(c, line);
-        if (ms[i] < 0)
-            need_new++;
-        else if (req && c->m[ms[i]].nwait >= (int)c->p.mshr_merge) {
-            c->st.blocked_merge++;
-            return CACHE_BLOCKED;
-        }
-    }
-    int alloc_new = mshrs_to_take(c, need_new, req);
+    int way[MAX_LINES_PER_ACCESS], ms[MAX_LINES_PER_ACCESS], missing;
+    int alloc_new = classify_lines(c, first, n, way, ms, &missing, req);
     if (alloc_new < 0)
         return CACHE_BLOCKED;
-    if (req && missing && c->free_waiter < 0) {
-        c->st.blocked_merge++;
-        return CACHE_BLOCKED;
-    }
     /* accepted: take the port and banks */
     c->ports_used++;
     for (int k = 0; k < nb; k++) {
@@ -476,36 +483,7 @@ static __attribute__((noinline)) cache_result access_multi(cache *c, uint64_t fi
     c->last_cycles = cycles;
     if (cycles > 1)
         c->st.bank_conflicts++;
-    c->st.accesses++;
-    for (int i = 0; i < n; i++)
-        if (way[i] >= 0)
-            c->stamp[way[i]] = ++c->clock;
-    if (!missing) {
-        c->st.hits++;
-        return CACHE_HIT;
-    }
-    c->st.misses++;
-    int wi = -1;
-    if (req) {
-        wi = c->free_waiter;
-        c->free_waiter = c->w[wi].next_free;
-        c->w[wi].req = *req;
-        c->w[wi].remaining = missing;
-    }
-    for (int i = 0; i < n; i++) {
-        if (way[i] >= 0)
-            continue;
-        int k = ms[i];
-        if (k >= 0)
-            c->st.merged++;
-        else if (alloc_new-- > 0)
-            k = alloc_mshr(c, first + (uint64_t)i, now);
-        else
-            continue; /* a partial probe (mshrs_to_take): the rest next time */
-        if (req)
-            c->m[k].wait[c->m[k].nwait++] = wi;
-    }
-    return CACHE_MISS;
+    return accept_lines(c, first, n, way, ms, missing, alloc_new, req, now);
 }
 
 cache_result cache_access(cache *c, uint64_t addr, uint32_t bytes, int64_t now)

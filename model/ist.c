@@ -222,7 +222,8 @@ static int ist_step(void *user, uint64_t cycle)
         ks_vcd_set(u->v_issue_ray, 0xFFFFFFFFu);
         ks_vcd_set(u->v_tri, 0xFFFFFFFFu);
     }
-    pipe_trace_update(&u->stage_rays, cycle);
+    if (pipe_trace_on(&u->stage_rays))
+        pipe_trace_update(&u->stage_rays, cycle);
     if (!progress) {
         uint64_t next = pipe_ring_next_exit(&u->pipe), c;
         if ((c = pipe_ring_next_exit(&u->loop)) < next)

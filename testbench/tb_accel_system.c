@@ -306,9 +306,14 @@ static void check_case(const rt_scene *sc, const char *preset, const char *memor
     check_case_width(sc, preset, 0, memory, diffuse, w, h, tot);
 }
 
-/* Runs a frame and returns cycles (0 on failure, message in err). */
-static uint64_t run_frame(const rt_scene *sc, const char *preset, const char *const *sets, uint32_t w, uint32_t h,
-                          bool diffuse, char *json, size_t jsonlen, char *err, size_t errlen, int *rc_out)
+/* Builds the scene's BVH for the machine, runs one frame from its first view
+ * with options o (NULL: defaults) and hands the finished top level to done
+ * (with accel_top_run's result) before destroying it. Returns cycles, 0 on a
+ * set-up failure (message in err). */
+typedef void (*frame_done_fn)(accel_top *top, int rc, void *user);
+static uint64_t run_frame_with(const rt_scene *sc, const char *preset, const char *const *sets, uint32_t w, uint32_t h,
+                               bool diffuse, const accel_top_opts *o, frame_done_fn done, void *user, char *err,
+                               size_t errlen, int *rc_out)
 {
     rtcfg *cfg = machine_cfg(preset, sets, err, errlen);
     if (!cfg)
@@ -324,19 +329,14 @@ static uint64_t run_frame(const rt_scene *sc, const char *preset, const char *co
         accel_source src;
         if (rtsim_frame_init(&fr, &sc->mesh, &sc->views.v[0], w, h, diffuse, 4, 1, false, &src, err, errlen)) {
             accel_image aimg = rtsim_image(&img);
-            accel_top_opts o = {0};
-            o.deadlock_cycles = 20000;
-            accel_top *top = accel_top_create(cfg, &aimg, &src, &o, err, errlen);
+            accel_top *top = accel_top_create(cfg, &aimg, &src, o, err, errlen);
             if (top) {
-                *rc_out = accel_top_run(top, NULL, NULL, err, errlen);
+                int rc = accel_top_run(top, NULL, NULL, err, errlen);
+                if (rc_out)
+                    *rc_out = rc;
                 cycles = accel_top_cycles(top);
-                if (json) {
-                    FILE *f = fmemopen(json, jsonlen, "w");
-                    if (f) {
-                        ks_stats_write_json(accel_top_stats(top), f);
-                        fclose(f);
-                    }
-                }
+                if (done)
+                    done(top, rc, user);
                 accel_top_destroy(top);
             }
         }
@@ -347,52 +347,74 @@ static uint64_t run_frame(const rt_scene *sc, const char *preset, const char *co
     return cycles;
 }
 
-/* Runs a frame, returns cycles and the named statistics (0 when absent). */
+typedef struct json_out {
+    char *buf;
+    size_t len;
+} json_out;
+
+static void frame_json(accel_top *top, int rc, void *user)
+{
+    (void)rc;
+    json_out *j = user;
+    FILE *f = fmemopen(j->buf, j->len, "w");
+    if (f) {
+        ks_stats_write_json(accel_top_stats(top), f);
+        fclose(f);
+    }
+}
+
+/* Runs a frame with a 20,000-cycle deadlock limit and returns cycles (0 on
+ * failure, message in err); json (when non-NULL) receives the statistics. */
+static uint64_t run_frame(const rt_scene *sc, const char *preset, const char *const *sets, uint32_t w, uint32_t h,
+                          bool diffuse, char *json, size_t jsonlen, char *err, size_t errlen, int *rc_out)
+{
+    accel_top_opts o = {0};
+    o.deadlock_cycles = 20000;
+    json_out j = {json, jsonlen};
+    return run_frame_with(sc, preset, sets, w, h, diffuse, &o, json ? frame_json : NULL, &j, err, errlen, rc_out);
+}
+
+typedef struct stat_sums {
+    const char *const *names;
+    double *vals;
+    int n;
+} stat_sums;
+
+/* Each name's value; summed over the TRVs when it starts with "trv.". */
+static void frame_stat_sums(accel_top *top, int rc, void *user)
+{
+    if (rc != 0)
+        return;
+    stat_sums *q = user;
+    for (int i = 0; i < q->n; i++) {
+        const char *name = q->names[i];
+        for (int k = 0; k < 64; k++) {
+            char nm[128];
+            double v;
+            if (strncmp(name, "trv.", 4))
+                snprintf(nm, sizeof nm, "%s", name);
+            else
+                snprintf(nm, sizeof nm, "trv%d.%s", k, name + 4);
+            if (ks_stats_value(accel_top_stats(top), nm, &v))
+                break;
+            q->vals[i] += v;
+            if (strncmp(name, "trv.", 4))
+                break;
+        }
+    }
+}
+
+/* Runs an MBVH4 64x36 primary frame; returns cycles (0 when it failed) and
+ * the named statistics (0 when absent). */
 static uint64_t run_stats(const rt_scene *sc, const char *const *sets, const char *const *names, double *vals, int n,
                           char *err, size_t errlen)
 {
-    rtcfg *cfg = machine_cfg("mbvh4", sets, err, errlen);
-    if (!cfg)
-        return 0;
-    rt_bvh_params bp;
-    rt_bvh_params_default(&bp);
-    bp.width = (int)rtcfg_int(cfg, "machine.branching");
-    rt_bvh_image img;
-    uint64_t cycles = 0;
-    rtsim_frame fr;
-    memset(&fr, 0, sizeof fr);
-    if (rt_bvh_build(&sc->mesh, &bp, &img, NULL, err, errlen)) {
-        accel_source src;
-        if (rtsim_frame_init(&fr, &sc->mesh, &sc->views.v[0], 64, 36, false, 4, 1, false, &src, err, errlen)) {
-            accel_image aimg = rtsim_image(&img);
-            accel_top *top = accel_top_create(cfg, &aimg, &src, NULL, err, errlen);
-            if (top && accel_top_run(top, NULL, NULL, err, errlen) == 0) {
-                cycles = accel_top_cycles(top);
-                /* each name is summed over the TRVs when it starts with "trv." */
-                for (int i = 0; i < n; i++) {
-                    vals[i] = 0;
-                    for (int k = 0; k < 64; k++) {
-                        char nm[128];
-                        double v;
-                        if (strncmp(names[i], "trv.", 4))
-                            snprintf(nm, sizeof nm, "%s", names[i]);
-                        else
-                            snprintf(nm, sizeof nm, "trv%d.%s", k, names[i] + 4);
-                        if (ks_stats_value(accel_top_stats(top), nm, &v))
-                            break;
-                        vals[i] += v;
-                        if (strncmp(names[i], "trv.", 4))
-                            break;
-                    }
-                }
-            }
-            accel_top_destroy(top);
-        }
-        rt_bvh_image_free(&img);
-    }
-    rtsim_frame_free(&fr);
-    rtcfg_destroy(cfg);
-    return cycles;
+    for (int i = 0; i < n; i++)
+        vals[i] = 0;
+    stat_sums q = {names, vals, n};
+    int rc = 1;
+    uint64_t cycles = run_frame_with(sc, "mbvh4", sets, 64, 36, false, NULL, frame_stat_sums, &q, err, errlen, &rc);
+    return rc == 0 ? cycles : 0;
 }
 
 static void test_banks_and_looping(const rt_scene *sc)

@@ -2,7 +2,6 @@
 #include "model/ist.h"
 
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 static const ks_desc_item ist_items[] = {
@@ -123,17 +122,9 @@ void ist_register(ist_unit *u, const char *name, ks_stats *st, ks_vcd *vcd)
         u->pipe.v_occ = ks_vcd_var_int(vcd, nm, 16, 0);
         snprintf(nm, sizeof nm, "%s.loop.occupancy", name);
         u->loop.v_occ = ks_vcd_var_int(vcd, nm, 16, 0);
-        const char **np = calloc(u->p.latency, sizeof *np);
-        char(*names)[16] = calloc(u->p.latency, sizeof *names);
-        if (np && names) {
-            for (uint32_t k = 0; k < u->p.latency; k++) {
-                snprintf(names[k], sizeof names[k], "test%u", k + 2); /* issue = test stage 1 */
-                np[k] = names[k];
-            }
-            pipe_trace_init(&u->stage_rays, vcd, name, u->p.latency, np);
-        }
-        free(np);
-        free(names);
+        /* the issue stage is test1, the pipeline after it test2.. */
+        const pipe_stage_part parts[] = {{"test", u->p.latency + 1}};
+        pipe_trace_init(&u->stage_rays, vcd, name, parts, 1);
     }
 }
 

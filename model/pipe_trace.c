@@ -6,12 +6,16 @@
 #include <stdlib.h>
 #include <string.h>
 
-bool pipe_trace_init(pipe_trace *t, ks_vcd *vcd, const char *unit, uint32_t stages, const char *const *names)
+bool pipe_trace_init(pipe_trace *t, ks_vcd *vcd, const char *unit, const pipe_stage_part *parts, unsigned nparts)
 {
     memset(t, 0, sizeof *t);
     t->last_issue = UINT64_MAX;
-    if (!vcd || stages == 0)
+    uint32_t stages = 0;
+    for (unsigned i = 0; i < nparts; i++)
+        stages += parts[i].n;
+    if (!vcd || stages < 2)
         return true;
+    stages--; /* the issue stage is the unit's own issue_ray */
     t->v = calloc(stages, sizeof *t->v);
     t->ray = calloc(stages + 1, sizeof *t->ray);
     t->at = malloc((stages + 1) * sizeof *t->at);
@@ -22,11 +26,15 @@ bool pipe_trace_init(pipe_trace *t, ks_vcd *vcd, const char *unit, uint32_t stag
     for (uint32_t i = 0; i <= stages; i++)
         t->at[i] = UINT64_MAX;
     t->stages = stages;
-    for (uint32_t k = 1; k <= stages; k++) {
-        char nm[192];
-        snprintf(nm, sizeof nm, "%s.stage.%02u_%s", unit, k, names[k - 1]);
-        t->v[k - 1] = ks_vcd_var_int(vcd, nm, 32, PIPE_TRACE_NONE);
-    }
+    uint32_t k = 0; /* stage index from issue */
+    for (unsigned i = 0; i < nparts; i++)
+        for (uint32_t j = 1; j <= parts[i].n; j++, k++) {
+            if (k == 0)
+                continue;
+            char nm[192];
+            snprintf(nm, sizeof nm, "%s.stage.%02u_%s%u", unit, k, parts[i].fn, j);
+            t->v[k - 1] = ks_vcd_var_int(vcd, nm, 32, PIPE_TRACE_NONE);
+        }
     return true;
 }
 

@@ -26,9 +26,16 @@ typedef struct pipe_trace {
     uint64_t last_issue;    /* cycle of the last issue (UINT64_MAX: none) */
 } pipe_trace;
 
-/* Declares the stage variables in vcd; names[k - 1] names stage k (e.g.
- * "box2"). false on allocation failure (t left empty). */
-bool pipe_trace_init(pipe_trace *t, ks_vcd *vcd, const char *unit, uint32_t stages, const char *const *names);
+/* The pipeline by function, issue stage first: {"fetch", 1}, {"box", 3}, ...
+ * names the stages fetch1, box1, box2, box3, ... */
+typedef struct pipe_stage_part {
+    const char *fn;
+    uint32_t n;
+} pipe_stage_part;
+
+/* Declares the variables of the stages after issue (all parts' stages but
+ * the first) in vcd. false on allocation failure (t left empty: no trace). */
+bool pipe_trace_init(pipe_trace *t, ks_vcd *vcd, const char *unit, const pipe_stage_part *parts, unsigned nparts);
 void pipe_trace_free(pipe_trace *t);
 static inline bool pipe_trace_on(const pipe_trace *t) { return t->v != 0; }
 void pipe_trace_issue(pipe_trace *t, uint64_t cycle, uint32_t ray);

@@ -2,7 +2,6 @@
 #include "model/trv.h"
 
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
 
 static const ks_desc_item trv_items[] = {
@@ -172,22 +171,10 @@ void trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd)
         /* stage s of the pipeline (0 = issue = fetch1) by function, in the
          * order of trv_pipeline_depth */
         const sort_net *net = sort_net_get(t->p.core.width);
-        const struct { const char *fn; uint32_t n; } parts[] = {
+        const pipe_stage_part parts[] = {
             {"fetch", t->p.stages_fetch}, {"box", t->p.stages_box}, {"sort", net ? (uint32_t)net->layers : 0},
             {"stack", t->p.stages_stack}, {"next", t->p.stages_next}};
-        char(*names)[16] = calloc(t->depth, sizeof *names);
-        const char **np = calloc(t->depth, sizeof *np);
-        if (names && np) {
-            uint32_t s = 0;
-            for (unsigned i = 0; i < sizeof parts / sizeof parts[0]; i++)
-                for (uint32_t j = 1; j <= parts[i].n && s < t->depth; j++, s++)
-                    snprintf(names[s], sizeof names[s], "%s%u", parts[i].fn, j);
-            for (uint32_t k = 1; k < t->depth; k++)
-                np[k - 1] = names[k];
-            pipe_trace_init(&t->stage_rays, vcd, name, t->depth - 1, np);
-        }
-        free(names);
-        free(np);
+        pipe_trace_init(&t->stage_rays, vcd, name, parts, sizeof parts / sizeof parts[0]);
     }
 }
 

@@ -1,10 +1,15 @@
 #!/usr/bin/env bash
-# Installs the Debian packages listed in scripts/debian-packages.txt that are
-# missing. As root it runs apt-get; otherwise it prints the exact command and
+# Installs the Debian packages listed in scripts/debian-packages.txt (or the
+# packages given as arguments, e.g. `install-deps.sh afl++` for make fuzz) that
+# are missing. As root it runs apt-get; otherwise it prints the exact command and
 # fails, so nothing half-works later with an obscure compiler error.
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
-mapfile -t pkgs < <(sed -e 's/#.*//' -e '/^[[:space:]]*$/d' "$here/debian-packages.txt" | awk '{print $1}')
+if [ $# -gt 0 ]; then
+  pkgs=("$@")
+else
+  mapfile -t pkgs < <(sed -e 's/#.*//' -e '/^[[:space:]]*$/d' "$here/debian-packages.txt" | awk '{print $1}')
+fi
 missing=()
 for p in "${pkgs[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed' || missing+=("$p")

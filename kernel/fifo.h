@@ -121,7 +121,7 @@ ks_fifo *ks_sim_fifo_at(const ks_sim *sim, uint32_t i);
 
 #define KS_ALWAYS_INLINE inline __attribute__((always_inline))
 
-void ks__fifo_size_mismatch(const ks_fifo *f, size_t size);
+__attribute__((noreturn, cold)) void ks__fifo_size_mismatch(const ks_fifo *f, size_t size);
 
 /* mode: 0 copy elem_size bytes, 1 copy `size` bytes (known at the call
  * site), 2 no copy (the slot was filled in place). */
@@ -142,11 +142,11 @@ static KS_ALWAYS_INLINE int ks__fifo_write(ks_fifo *f, const void *item, int mod
         memcpy(f->data + (size_t)i * f->elem_size, item, f->elem_size);
     ks_time ready = now + f->latency_ps;
     f->ready[i] = ready;
+    if (f->vcd_occ) /* before the change: the occupancy is sampled when written out */
+        ks__vcd_touch(f->vcd_occ, now);
     f->count++;
     if (f->count > f->max_occ)
         f->max_occ = f->count;
-    if (f->vcd_occ)
-        ks_vcd_set(f->vcd_occ, f->count);
     if (ready > now)
         ks__event_notify_at(&f->ev_written, ready);
     else
@@ -168,10 +168,10 @@ static KS_ALWAYS_INLINE int ks__fifo_read(ks_fifo *f, void *out, int sized, size
     }
     if (++f->head == f->capacity)
         f->head = 0;
+    if (f->vcd_occ)
+        ks__vcd_touch(f->vcd_occ, now);
     f->count--;
     f->reads++;
-    if (f->vcd_occ)
-        ks_vcd_set(f->vcd_occ, f->count);
     ks__event_notify_delta(&f->ev_freed);
     /* Method waiters only: the event keeps just its earliest pending
      * notification, so the next item's one may have been dropped while an

@@ -9,6 +9,8 @@
 
 enum { VAR_BIT = 0, VAR_INT = 1, VAR_ENUM = 2 };
 #define VCD_BUF (1u << 20)
+#define VCD_LINE 80u   /* longest bit/integer change: b + 64 digits + " id\n" + 8 spare */
+#define VCD_CHUNK 4096u /* changes given room at once (320 kB of VCD_BUF) */
 
 struct ks_vcd_var {
     /* same prefix as struct ks__vcd_var_head (vcd.h inline fast path) */
@@ -16,7 +18,9 @@ struct ks_vcd_var {
     uint64_t value;            /* current value */
     uint64_t mask;
     uint8_t dirty;             /* in the dirty list of the current time */
+    ks_time stamp;             /* sampled: time of its dirty-list entry */
     /* private */
+    const uint32_t *src;       /* sampled: the traced location, else NULL */
     uint8_t kind;
     uint8_t idlen;
     uint64_t emitted;          /* value as of the last time written out */
@@ -122,31 +126,54 @@ static const char digits2[201] =
     "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
     "8081828384858687888990919293949596979899";
 
-/* Decimal, four digits per step (then two). */
+static const uint64_t pow10_tab[20] = {1ull,
+                                       10ull,
+                                       100ull,
+                                       1000ull,
+                                       10000ull,
+                                       100000ull,
+                                       1000000ull,
+                                       10000000ull,
+                                       100000000ull,
+                                       1000000000ull,
+                                       10000000000ull,
+                                       100000000000ull,
+                                       1000000000000ull,
+                                       10000000000000ull,
+                                       100000000000000ull,
+                                       1000000000000000ull,
+                                       10000000000000000ull,
+                                       100000000000000000ull,
+                                       1000000000000000000ull,
+                                       10000000000000000000ull};
+
+/* Decimal: the digit count from the bit length (1233 / 4096 ~ log10 2),
+ * then four digits per step written backwards in place. */
 static inline char *put_u64(char *p, uint64_t v)
 {
-    char tmp[24];
-    int n = 24;
+    unsigned nd = ((unsigned)(64 - __builtin_clzll(v | 1)) * 1233u) >> 12;
+    nd += nd < 20 && v >= pow10_tab[nd];
+    if (nd == 0)
+        nd = 1;
+    char *end = p + nd, *q = end;
     while (v >= 10000) {
         unsigned r = (unsigned)(v % 10000);
         v /= 10000;
-        n -= 4;
-        memcpy(tmp + n, dec4[r], 4);
+        q -= 4;
+        memcpy(q, dec4[r], 4);
     }
-    while (v >= 100) {
-        unsigned r = (unsigned)(v % 100);
+    if (v >= 100) {
+        q -= 2;
+        memcpy(q, digits2 + 2 * (v % 100), 2);
         v /= 100;
-        n -= 2;
-        memcpy(tmp + n, digits2 + 2 * r, 2);
     }
     if (v >= 10) {
-        n -= 2;
-        memcpy(tmp + n, digits2 + 2 * v, 2);
+        q -= 2;
+        memcpy(q, digits2 + 2 * v, 2);
     } else {
-        tmp[--n] = (char)('0' + v);
+        *--q = (char)('0' + v);
     }
-    memcpy(p, tmp + n, (size_t)(24 - n));
-    return p + (24 - n);
+    return end;
 }
 
 /* Binary without leading zeros ("0" for zero). */
@@ -351,11 +378,18 @@ static void start_window(ks_vcd *d)
 /* Writes out the changes recorded at d->cur_t: only variables whose value
  * at the end of that time differs from the one last written (glitches
  * within one time stamp vanish, as in a sampled waveform). */
+static inline void sample(ks_vcd_var *v)
+{
+    if (v->src)
+        v->value = *v->src;
+}
+
 static void flush_dirty(ks_vcd *d)
 {
     ks_time t = d->cur_t;
     if (t < d->begin || d->ended) {
         for (unsigned i = 0; i < d->n_dirty; i++) {
+            sample(d->dirty[i]);
             d->dirty[i]->emitted = d->dirty[i]->value;
             d->dirty[i]->dirty = 0;
         }
@@ -365,6 +399,7 @@ static void flush_dirty(ks_vcd *d)
     if (!d->started && t == d->begin) {
         /* changes at the first time of the window go into its $dumpvars */
         for (unsigned i = 0; i < d->n_dirty; i++) {
+            sample(d->dirty[i]);
             d->dirty[i]->emitted = d->dirty[i]->value;
             d->dirty[i]->dirty = 0;
         }
@@ -382,20 +417,50 @@ static void flush_dirty(ks_vcd *d)
         d->n_dirty = 0;
         return;
     }
-    int timed = 0;
-    for (unsigned i = 0; i < d->n_dirty; i++) {
-        ks_vcd_var *v = d->dirty[i];
-        v->dirty = 0;
-        if (v->value != v->emitted) {
-            if (!timed) {
-                emit_time(d, t);
-                timed = 1;
-            }
-            v->emitted = v->value;
-            emit_value(d, v);
-        }
-    }
+    ks_vcd_var **list = d->dirty;
+    unsigned n = d->n_dirty, i = 0;
     d->n_dirty = 0;
+    for (; i < n; i++) { /* up to the first real change */
+        ks_vcd_var *v = list[i];
+        v->dirty = 0;
+        sample(v);
+        if (v->value != v->emitted)
+            break;
+    }
+    if (i == n)
+        return;
+    emit_time(d, t);
+    /* Bit and integer lines take at most VCD_LINE bytes: room for a chunk of
+     * them is made once, enumerations (any length) make their own. */
+    while (i < n) {
+        unsigned chunk_end = n - i > VCD_CHUNK ? i + VCD_CHUNK : n;
+        ensure(d, (size_t)(chunk_end - i) * VCD_LINE);
+        char *p = d->buf + d->pos;
+        for (; i < chunk_end; i++) {
+            ks_vcd_var *v = list[i];
+            v->dirty = 0;
+            sample(v);
+            uint64_t val = v->value;
+            if (val == v->emitted)
+                continue;
+            v->emitted = val;
+            if (v->kind == VAR_INT) {
+                *p++ = 'b';
+                p = put_bin(p, val);
+            } else if (v->kind == VAR_BIT) {
+                *p++ = (char)('0' + (val & 1));
+            } else {
+                d->pos = (size_t)(p - d->buf);
+                emit_enum(d, v);
+                ensure(d, (size_t)(chunk_end - i) * VCD_LINE);
+                p = d->buf + d->pos;
+                continue;
+            }
+            memcpy(p, v->tail, 8); /* padded: the extra bytes are overwritten next */
+            p += v->tail_len;
+        }
+        d->pos = (size_t)(p - d->buf);
+    }
 }
 
 /* First change of a new time stamp: write out the previous one. */
@@ -406,6 +471,15 @@ static __attribute__((noinline)) void new_time(ks_vcd *d, ks_time now)
     d->cur_t = now;
     if (!d->header_done)
         write_header(d); /* freezes the declarations */
+}
+
+void ks__vcd_touch_slow(ks_vcd_var *v, ks_time now)
+{
+    ks_vcd *d = v->vcd;
+    if (now != d->cur_t || !d->header_done)
+        new_time(d, now);
+    v->stamp = now;
+    d->dirty[d->n_dirty++] = v; /* room for every variable once the header is out */
 }
 
 static __attribute__((noinline)) void grow_dirty(ks_vcd *d)
@@ -478,6 +552,7 @@ static ks_vcd_var *declare(ks_vcd *d, const char *name, int kind, unsigned width
     v->width = width;
     v->mask = width >= 64 ? UINT64_MAX : (((uint64_t)1 << width) - 1);
     v->value = v->emitted = init & v->mask;
+    v->stamp = -1;
     v->name = ks__xstrdup(name);
     v->order = d->n_vars;
     unsigned n = d->n_vars;
@@ -529,6 +604,8 @@ void ks__vcd_trace_fifo(ks_vcd *d, ks_fifo *f)
     char name[600];
     snprintf(name, sizeof name, "%s.occupancy", f->name);
     f->vcd_occ = ks_vcd_var_int(d, name, 32, f->count);
+    if (f->vcd_occ)
+        f->vcd_occ->src = &f->count; /* sampled: the FIFO lists it, no value per change */
 }
 
 void ks__vcd_trace_signal(ks_vcd *d, ks_signal *s)

@@ -17,8 +17,8 @@ struct ks_vcd_var {
     ks_vcd *vcd;
     uint64_t value;            /* current value */
     uint64_t mask;
-    uint8_t dirty;             /* in the dirty list of the current time */
-    ks_time stamp;             /* sampled: time of its dirty-list entry */
+    ks_time stamp;             /* time of its dirty-list entry (listed at most
+                                  once per time stamp; -1: never) */
     /* private */
     const uint32_t *src;       /* sampled: the traced location, else NULL */
     uint8_t kind;
@@ -391,7 +391,6 @@ static void flush_dirty(ks_vcd *d)
         for (unsigned i = 0; i < d->n_dirty; i++) {
             sample(d->dirty[i]);
             d->dirty[i]->emitted = d->dirty[i]->value;
-            d->dirty[i]->dirty = 0;
         }
         d->n_dirty = 0;
         return;
@@ -401,7 +400,6 @@ static void flush_dirty(ks_vcd *d)
         for (unsigned i = 0; i < d->n_dirty; i++) {
             sample(d->dirty[i]);
             d->dirty[i]->emitted = d->dirty[i]->value;
-            d->dirty[i]->dirty = 0;
         }
         d->n_dirty = 0;
         start_window(d);
@@ -412,8 +410,6 @@ static void flush_dirty(ks_vcd *d)
     if (t >= d->end) {
         emit_time(d, d->end);
         d->ended = 1;
-        for (unsigned i = 0; i < d->n_dirty; i++)
-            d->dirty[i]->dirty = 0;
         d->n_dirty = 0;
         return;
     }
@@ -422,9 +418,7 @@ static void flush_dirty(ks_vcd *d)
     d->n_dirty = 0;
     for (; i < n; i++) { /* up to the first real change */
         ks_vcd_var *v = list[i];
-        v->dirty = 0;
-        sample(v);
-        if (v->value != v->emitted)
+        if ((v->src ? *v->src : v->value) != v->emitted)
             break;
     }
     if (i == n)
@@ -438,9 +432,7 @@ static void flush_dirty(ks_vcd *d)
         char *p = d->buf + d->pos;
         for (; i < chunk_end; i++) {
             ks_vcd_var *v = list[i];
-            v->dirty = 0;
-            sample(v);
-            uint64_t val = v->value;
+            uint64_t val = v->src ? *v->src : v->value;
             if (val == v->emitted)
                 continue;
             v->emitted = val;
@@ -498,8 +490,8 @@ void ks__vcd_set(ks_vcd_var *v, uint64_t value)
     if (now != d->cur_t || !d->header_done)
         new_time(d, now);
     v->value = value;
-    if (!v->dirty) {
-        v->dirty = 1;
+    if (v->stamp != now) {
+        v->stamp = now;
         if (d->n_dirty == d->cap_dirty)
             grow_dirty(d);
         d->dirty[d->n_dirty++] = v;

@@ -59,8 +59,7 @@ struct ks__vcd_head {
 struct ks__vcd_var_head {
     struct ks__vcd_head *vcd;
     uint64_t value, mask;
-    uint8_t dirty;
-    ks_time stamp;             /* sampled variables: time they were listed */
+    ks_time stamp;             /* time of its dirty-list entry (-1: none) */
 };
 void ks__vcd_set(ks_vcd_var *var, uint64_t value);
 static inline void ks_vcd_set(ks_vcd_var *var, uint64_t value)
@@ -78,8 +77,8 @@ static inline void ks_vcd_set(ks_vcd_var *var, uint64_t value)
      * variable. */
     if (*d->now == d->cur_t) {
         h->value = value;
-        if (!h->dirty) {
-            h->dirty = 1;
+        if (h->stamp != d->cur_t) {
+            h->stamp = d->cur_t;
             d->dirty[d->n_dirty++] = var;
         }
         return;

@@ -58,6 +58,9 @@ struct ks_vcd {
     size_t pos;
     uint64_t flushed;
     int64_t last_vt;
+    uint64_t hi_val;           /* time stamp / 10000 formatted in hi_str (0: none) */
+    char hi_str[24];
+    uint8_t hi_len;
 };
 
 static char bin8[257][8]; /* one spare row: top-byte copies read past a row */
@@ -243,10 +246,24 @@ static void emit_time(ks_vcd *d, ks_time t)
     if (vt == d->last_vt)
         return;
     d->last_vt = vt;
-    ensure(d, 32);
+    ensure(d, 48);
     char *p = d->buf + d->pos;
     *p++ = '#';
-    p = put_u64(p, (uint64_t)vt);
+    /* Consecutive time stamps mostly share all but their last four digits:
+     * those are formatted once and copied. */
+    uint64_t hi = (uint64_t)vt / 10000;
+    if (hi == 0) {
+        p = put_u64(p, (uint64_t)vt);
+    } else {
+        if (hi != d->hi_val) {
+            d->hi_val = hi;
+            d->hi_len = (uint8_t)(put_u64(d->hi_str, hi) - d->hi_str);
+        }
+        memcpy(p, d->hi_str, sizeof d->hi_str);
+        p += d->hi_len;
+        memcpy(p, dec4[(uint64_t)vt - hi * 10000], 4);
+        p += 4;
+    }
     *p++ = '\n';
     d->pos = (size_t)(p - d->buf);
 }

@@ -485,12 +485,11 @@ static __attribute__((noinline)) void new_time(ks_vcd *d, ks_time now)
         write_header(d); /* freezes the declarations */
 }
 
-void ks__vcd_touch_slow(ks_vcd_var *v, ks_time now)
+void ks__vcd_list_slow(ks_vcd_var *v, ks_time now)
 {
     ks_vcd *d = v->vcd;
     if (now != d->cur_t || !d->header_done)
         new_time(d, now);
-    v->stamp = now;
     d->dirty[d->n_dirty++] = v; /* room for every variable once the header is out */
 }
 
@@ -616,8 +615,10 @@ void ks__vcd_trace_fifo(ks_vcd *d, ks_fifo *f)
     char name[600];
     snprintf(name, sizeof name, "%s.occupancy", f->name);
     f->vcd_occ = ks_vcd_var_int(d, name, 32, f->count);
-    if (f->vcd_occ)
+    if (f->vcd_occ) {
         f->vcd_occ->src = &f->count; /* sampled: the FIFO lists it, no value per change */
+        f->vcd_listed = -1;
+    }
 }
 
 void ks__vcd_trace_signal(ks_vcd *d, ks_signal *s)
@@ -764,8 +765,10 @@ int ks_vcd_close(ks_vcd *d)
         remove(d->tmp_path);
         rc = -1;
     }
-    for (size_t i = 0; i < sim->n_fifos; i++)
+    for (size_t i = 0; i < sim->n_fifos; i++) {
         sim->fifos[i]->vcd_occ = NULL;
+        sim->fifos[i]->vcd_listed = KS_TIME_MAX;
+    }
     for (size_t i = 0; i < sim->n_signals; i++)
         sim->signals[i]->vcd_var = NULL;
     sim->vcd = NULL;

@@ -87,21 +87,17 @@ static inline void ks_vcd_set(ks_vcd_var *var, uint64_t value)
 }
 /* Sampled variables (a FIFO's occupancy): the value is read from the
  * traced location when the time stamp is written out, so the owner only
- * lists the variable once per time stamp, before its first change there
- * (a later change at the same time costs one comparison). */
-void ks__vcd_touch_slow(ks_vcd_var *var, ks_time now);
-static inline void ks__vcd_touch(ks_vcd_var *var, ks_time now)
+ * lists the variable once per time stamp (it keeps track of that), before
+ * its first change there. */
+void ks__vcd_list_slow(ks_vcd_var *var, ks_time now);
+static inline void ks__vcd_list(ks_vcd_var *var, ks_time now)
 {
-    struct ks__vcd_var_head *h = (struct ks__vcd_var_head *)var;
-    if (h->stamp == now)
-        return;
-    struct ks__vcd_head *d = h->vcd;
+    struct ks__vcd_head *d = ((struct ks__vcd_var_head *)var)->vcd;
     if (d->cur_t == now) {
-        h->stamp = now;
         d->dirty[d->n_dirty++] = var;
         return;
     }
-    ks__vcd_touch_slow(var, now);
+    ks__vcd_list_slow(var, now);
 }
 /* Bytes written so far (including what is still buffered). */
 uint64_t ks_vcd_bytes(const ks_vcd *vcd);

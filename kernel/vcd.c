@@ -41,8 +41,8 @@ struct ks_vcd {
     /* same prefix as struct ks__vcd_head (vcd.h inline fast path) */
     const ks_time *now;
     ks_time cur_t;             /* time of the changes in the dirty list */
-    ks_vcd_var **dirty;
-    unsigned n_dirty, cap_dirty;
+    ks_vcd_var **dirty, **dirty_end;
+    unsigned cap_dirty;
     uint8_t header_done;
     /* private */
     uint8_t started, ended, io_error;
@@ -93,6 +93,8 @@ static void init_tables(void)
     }
     bin8_ready = 1;
 }
+
+static inline size_t n_dirty(const ks_vcd *d) { return (size_t)(d->dirty_end - d->dirty); }
 
 /* ---- output buffer ---- */
 
@@ -317,8 +319,10 @@ static void write_header(ks_vcd *d)
     /* the declarations are final: room for every variable in the dirty list
      * (each is in it at most once), so ks_vcd_set need not check */
     if (d->cap_dirty < d->n_vars) {
+        size_t n = n_dirty(d);
         d->cap_dirty = d->n_vars;
         d->dirty = ks__xrealloc(d->dirty, d->cap_dirty * sizeof *d->dirty);
+        d->dirty_end = d->dirty + n;
     }
     put_str(d, "$version rtsim kernel VCD writer $end\n$timescale ");
     put_str(d, d->ts_str);
@@ -408,20 +412,20 @@ static void flush_dirty(ks_vcd *d)
 {
     ks_time t = d->cur_t;
     if (t < d->begin || d->ended) {
-        for (unsigned i = 0; i < d->n_dirty; i++) {
-            sample(d->dirty[i]);
-            d->dirty[i]->emitted = d->dirty[i]->value;
+        for (ks_vcd_var **v = d->dirty; v < d->dirty_end; v++) {
+            sample(*v);
+            (*v)->emitted = (*v)->value;
         }
-        d->n_dirty = 0;
+        d->dirty_end = d->dirty;
         return;
     }
     if (!d->started && t == d->begin) {
         /* changes at the first time of the window go into its $dumpvars */
-        for (unsigned i = 0; i < d->n_dirty; i++) {
-            sample(d->dirty[i]);
-            d->dirty[i]->emitted = d->dirty[i]->value;
+        for (ks_vcd_var **v = d->dirty; v < d->dirty_end; v++) {
+            sample(*v);
+            (*v)->emitted = (*v)->value;
         }
-        d->n_dirty = 0;
+        d->dirty_end = d->dirty;
         start_window(d);
         return;
     }
@@ -430,12 +434,12 @@ static void flush_dirty(ks_vcd *d)
     if (t >= d->end) {
         emit_time(d, d->end);
         d->ended = 1;
-        d->n_dirty = 0;
+        d->dirty_end = d->dirty;
         return;
     }
     ks_vcd_var **list = d->dirty;
-    unsigned n = d->n_dirty, i = 0;
-    d->n_dirty = 0;
+    unsigned n = n_dirty(d), i = 0;
+    d->dirty_end = d->dirty;
     for (; i < n; i++) { /* up to the first real change */
         ks_vcd_var *v = list[i];
         if ((v->src ? *v->src : v->value) != v->emitted)
@@ -478,7 +482,7 @@ static void flush_dirty(ks_vcd *d)
 /* First change of a new time stamp: write out the previous one. */
 static __attribute__((noinline)) void new_time(ks_vcd *d, ks_time now)
 {
-    if (d->n_dirty)
+    if (d->dirty_end != d->dirty)
         flush_dirty(d);
     d->cur_t = now;
     if (!d->header_done)
@@ -490,13 +494,15 @@ void ks__vcd_list_slow(ks_vcd_var *v, ks_time now)
     ks_vcd *d = v->vcd;
     if (now != d->cur_t || !d->header_done)
         new_time(d, now);
-    d->dirty[d->n_dirty++] = v; /* room for every variable once the header is out */
+    *d->dirty_end++ = v; /* room for every variable once the header is out */
 }
 
 static __attribute__((noinline)) void grow_dirty(ks_vcd *d)
 {
-    d->cap_dirty = d->cap_dirty ? d->cap_dirty * 2 : 64;
+    size_t n = n_dirty(d);
+    d->cap_dirty *= 2;
     d->dirty = ks__xrealloc(d->dirty, d->cap_dirty * sizeof *d->dirty);
+    d->dirty_end = d->dirty + n;
 }
 
 void ks__vcd_set(ks_vcd_var *v, uint64_t value)
@@ -511,9 +517,9 @@ void ks__vcd_set(ks_vcd_var *v, uint64_t value)
     v->value = value;
     if (v->stamp != now) {
         v->stamp = now;
-        if (d->n_dirty == d->cap_dirty)
+        if (n_dirty(d) == d->cap_dirty)
             grow_dirty(d);
-        d->dirty[d->n_dirty++] = v;
+        *d->dirty_end++ = v;
     }
 }
 
@@ -703,6 +709,8 @@ ks_vcd *ks_vcd_open(ks_sim *sim, const char *path, const char *timescale, ks_tim
     d->end = window_end;
     d->last_vt = -1;
     d->buf = ks__xmalloc(VCD_BUF);
+    d->cap_dirty = 64;
+    d->dirty = d->dirty_end = ks__xmalloc(d->cap_dirty * sizeof *d->dirty);
     if (filter && *filter) {
         const char *p = filter;
         while (*p) {
@@ -736,7 +744,7 @@ void ks__vcd_finish(ks_vcd *d)
 {
     if (!d->header_done)
         write_header(d);
-    if (d->n_dirty)
+    if (d->dirty_end != d->dirty)
         flush_dirty(d);
     ks_time now = *d->now;
     if (!d->started && now >= d->begin)

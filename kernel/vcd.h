@@ -52,8 +52,9 @@ ks_vcd_var *ks_vcd_var_enum(ks_vcd *vcd, const char *name, const char *const *na
 struct ks__vcd_head {
     const ks_time *now;
     ks_time cur_t;             /* time of the changes in the dirty list */
-    ks_vcd_var **dirty;        /* variables changed at cur_t */
-    unsigned n_dirty, cap_dirty;
+    ks_vcd_var **dirty;        /* variables changed at cur_t ... */
+    ks_vcd_var **dirty_end;    /* ... up to here */
+    unsigned cap_dirty;
     uint8_t header_done;
 };
 struct ks__vcd_var_head {
@@ -79,7 +80,7 @@ static inline void ks_vcd_set(ks_vcd_var *var, uint64_t value)
         h->value = value;
         if (h->stamp != d->cur_t) {
             h->stamp = d->cur_t;
-            d->dirty[d->n_dirty++] = var;
+            *d->dirty_end++ = var;
         }
         return;
     }
@@ -94,7 +95,7 @@ static inline void ks__vcd_list(ks_vcd_var *var, ks_time now)
 {
     struct ks__vcd_head *d = ((struct ks__vcd_var_head *)var)->vcd;
     if (d->cur_t == now) {
-        d->dirty[d->n_dirty++] = var;
+        *d->dirty_end++ = var;
         return;
     }
     ks__vcd_list_slow(var, now);

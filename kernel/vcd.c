@@ -247,7 +247,7 @@ static inline void emit_value(ks_vcd *d, const ks_vcd_var *v)
 
 static __attribute__((noinline)) int64_t scale_time(ks_time t, ks_time ts_ps) { return t / ts_ps; }
 
-static void emit_time(ks_vcd *d, ks_time t)
+static inline __attribute__((always_inline)) void emit_time_inline(ks_vcd *d, ks_time t)
 {
     /* no division for the usual 1 ps timescale (a 64-bit division costs
      * tens of cycles; the compiler would otherwise divide by 1) */
@@ -276,6 +276,8 @@ static void emit_time(ks_vcd *d, ks_time t)
     *p++ = '\n';
     d->pos = (size_t)(p - d->buf);
 }
+
+static void emit_time(ks_vcd *d, ks_time t) { emit_time_inline(d, t); }
 
 /* ---- header ---- */
 
@@ -451,7 +453,7 @@ static void flush_dirty(ks_vcd *d)
     }
     if (i == n)
         return;
-    emit_time(d, t);
+    emit_time_inline(d, t);
     /* Bit and integer lines take at most VCD_LINE bytes: room for a chunk of
      * them is made once, enumerations (any length) make their own. */
     while (i < n) {

@@ -382,6 +382,25 @@ static int sim_has_other_work(ks_sim *sim, const ks_clock *c)
     return ks__queue_has_non_clock(sim);
 }
 
+/* awake |= woken, woken = 0; returns whether any process is awake. One
+ * word (up to 64 processes) without the loop. */
+static inline int merge_woken(ks_clock *c, uint32_t nw)
+{
+    if (nw == 1) {
+        uint64_t a = c->awake[0] | c->woken[0];
+        c->awake[0] = a;
+        c->woken[0] = 0;
+        return a != 0;
+    }
+    int any = 0;
+    for (uint32_t w = 0; w < nw; w++) {
+        c->awake[w] |= c->woken[w];
+        c->woken[w] = 0;
+        any |= c->awake[w] != 0;
+    }
+    return any;
+}
+
 /* One tick at `cycle` (time sim->now); returns the next cycle to tick or
  * UINT64_MAX. */
 static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
@@ -402,10 +421,7 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
             c->procs[i]->last_timer = UINT64_MAX;
         timer_pop(c);
     }
-    for (uint32_t w = 0; w < nw; w++) {
-        c->awake[w] |= c->woken[w];
-        c->woken[w] = 0;
-    }
+    merge_woken(c, nw);
     uint64_t progress = 0, steps = 0;
     if (c->exhaustive) {
         for (uint32_t i = 0; i < c->n_procs; i++)
@@ -436,12 +452,7 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
     sim->ticking = NULL;
     if (c->posedge.n_statics || c->posedge.dyn_head)
         ks_event_notify(&c->posedge);
-    int any = 0;
-    for (uint32_t w = 0; w < nw; w++) { /* woken for the next cycle */
-        c->awake[w] |= c->woken[w];
-        c->woken[w] = 0;
-        any |= c->awake[w] != 0;
-    }
+    int any = merge_woken(c, nw); /* woken for the next cycle */
     uint64_t next = UINT64_MAX;
     if (any || c->posedge.n_statics)
         next = cycle + 1;

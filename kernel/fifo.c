@@ -68,6 +68,7 @@ ks_fifo *ks_fifo_create(ks_sim *sim, const char *name, size_t elem_size, uint32_
     snprintf(ev, sizeof ev, "%s.freed", name);
     ks_event_init(&f->ev_freed, sim, ev);
     f->created = sim->now;
+    f->vcd_listed = KS_TIME_MAX;
     f->ev_written.no_record = f->ev_freed.no_record = 1;
     ks__event_refresh(&f->ev_written);
     ks__event_refresh(&f->ev_freed);

@@ -56,6 +56,10 @@ typedef struct ks_fifo {
     unsigned __int128 sum_write_t, sum_read_t;
     uint64_t reads, rejected;  /* writes = reads + count */
     struct ks_vcd_var *vcd_occ;
+    /* Time stamp at which vcd_occ was last put in the VCD writer's list of
+     * changed variables (it is sampled when the time stamp is written);
+     * KS_TIME_MAX while not traced, so one comparison covers both. */
+    ks_time vcd_listed;
 } ks_fifo;
 
 ks_fifo *ks_fifo_create(ks_sim *sim, const char *name, size_t elem_size, uint32_t capacity,
@@ -121,7 +125,15 @@ ks_fifo *ks_sim_fifo_at(const ks_sim *sim, uint32_t i);
 
 #define KS_ALWAYS_INLINE inline __attribute__((always_inline))
 
-void ks__fifo_size_mismatch(const ks_fifo *f, size_t size);
+__attribute__((noreturn, cold)) void ks__fifo_size_mismatch(const ks_fifo *f, size_t size);
+
+/* Lists the traced occupancy for the time stamp now (called once per time
+ * stamp, when vcd_listed < now, before the first change). */
+static KS_ALWAYS_INLINE void ks__fifo_vcd_list(ks_fifo *f, ks_time now)
+{
+    f->vcd_listed = now;
+    ks__vcd_list(f->vcd_occ, now);
+}
 
 /* mode: 0 copy elem_size bytes, 1 copy `size` bytes (known at the call
  * site), 2 no copy (the slot was filled in place). */
@@ -142,11 +154,11 @@ static KS_ALWAYS_INLINE int ks__fifo_write(ks_fifo *f, const void *item, int mod
         memcpy(f->data + (size_t)i * f->elem_size, item, f->elem_size);
     ks_time ready = now + f->latency_ps;
     f->ready[i] = ready;
+    if (f->vcd_listed < now) /* traced, not listed yet at now; before the change */
+        ks__fifo_vcd_list(f, now);
     f->count++;
     if (f->count > f->max_occ)
         f->max_occ = f->count;
-    if (f->vcd_occ)
-        ks_vcd_set(f->vcd_occ, f->count);
     if (ready > now)
         ks__event_notify_at(&f->ev_written, ready);
     else
@@ -168,10 +180,10 @@ static KS_ALWAYS_INLINE int ks__fifo_read(ks_fifo *f, void *out, int sized, size
     }
     if (++f->head == f->capacity)
         f->head = 0;
+    if (f->vcd_listed < now)
+        ks__fifo_vcd_list(f, now);
     f->count--;
     f->reads++;
-    if (f->vcd_occ)
-        ks_vcd_set(f->vcd_occ, f->count);
     ks__event_notify_delta(&f->ev_freed);
     /* Method waiters only: the event keeps just its earliest pending
      * notification, so the next item's one may have been dropped while an

@@ -8,15 +8,22 @@
 #include "kernel/sim_internal.h"
 
 enum { VAR_BIT = 0, VAR_INT = 1, VAR_ENUM = 2 };
-#define VCD_BUF (1u << 20)
+/* 128 kB: the buffer stays in the core's L2 cache while it is filled and
+ * copied to the kernel (measurements against 1 MB on the shared machine:
+ * docs/kernel.md, "VCD round"). */
+#define VCD_BUF (1u << 17)
+#define VCD_LINE 80u   /* longest bit/integer change: b + 64 digits + " id\n" + 8 spare */
+#define VCD_CHUNK (VCD_BUF / 4 / VCD_LINE) /* changes given room at once */
 
 struct ks_vcd_var {
     /* same prefix as struct ks__vcd_var_head (vcd.h inline fast path) */
     ks_vcd *vcd;
     uint64_t value;            /* current value */
     uint64_t mask;
-    uint8_t dirty;             /* in the dirty list of the current time */
+    ks_time stamp;             /* time of its dirty-list entry (listed at most
+                                  once per time stamp; -1: never) */
     /* private */
+    const uint32_t *src;       /* sampled: the traced location, else NULL */
     uint8_t kind;
     uint8_t idlen;
     uint64_t emitted;          /* value as of the last time written out */
@@ -34,8 +41,8 @@ struct ks_vcd {
     /* same prefix as struct ks__vcd_head (vcd.h inline fast path) */
     const ks_time *now;
     ks_time cur_t;             /* time of the changes in the dirty list */
-    ks_vcd_var **dirty;
-    unsigned n_dirty, cap_dirty;
+    ks_vcd_var **dirty, **dirty_end;
+    unsigned cap_dirty;
     uint8_t header_done;
     /* private */
     uint8_t started, ended, io_error;
@@ -54,6 +61,9 @@ struct ks_vcd {
     size_t pos;
     uint64_t flushed;
     int64_t last_vt;
+    uint64_t hi_val;           /* time stamp / 10000 formatted in hi_str (0: none) */
+    char hi_str[24];
+    uint8_t hi_len;
 };
 
 static char bin8[257][8]; /* one spare row: top-byte copies read past a row */
@@ -83,6 +93,8 @@ static void init_tables(void)
     }
     bin8_ready = 1;
 }
+
+static inline size_t n_dirty(const ks_vcd *d) { return (size_t)(d->dirty_end - d->dirty); }
 
 /* ---- output buffer ---- */
 
@@ -122,31 +134,54 @@ static const char digits2[201] =
     "40414243444546474849505152535455565758596061626364656667686970717273747576777879"
     "8081828384858687888990919293949596979899";
 
-/* Decimal, four digits per step (then two). */
+static const uint64_t pow10_tab[20] = {1ull,
+                                       10ull,
+                                       100ull,
+                                       1000ull,
+                                       10000ull,
+                                       100000ull,
+                                       1000000ull,
+                                       10000000ull,
+                                       100000000ull,
+                                       1000000000ull,
+                                       10000000000ull,
+                                       100000000000ull,
+                                       1000000000000ull,
+                                       10000000000000ull,
+                                       100000000000000ull,
+                                       1000000000000000ull,
+                                       10000000000000000ull,
+                                       100000000000000000ull,
+                                       1000000000000000000ull,
+                                       10000000000000000000ull};
+
+/* Decimal: the digit count from the bit length (1233 / 4096 ~ log10 2),
+ * then four digits per step written backwards in place. */
 static inline char *put_u64(char *p, uint64_t v)
 {
-    char tmp[24];
-    int n = 24;
+    unsigned nd = ((unsigned)(64 - __builtin_clzll(v | 1)) * 1233u) >> 12;
+    nd += nd < 20 && v >= pow10_tab[nd];
+    if (nd == 0)
+        nd = 1;
+    char *end = p + nd, *q = end;
     while (v >= 10000) {
         unsigned r = (unsigned)(v % 10000);
         v /= 10000;
-        n -= 4;
-        memcpy(tmp + n, dec4[r], 4);
+        q -= 4;
+        memcpy(q, dec4[r], 4);
     }
-    while (v >= 100) {
-        unsigned r = (unsigned)(v % 100);
+    if (v >= 100) {
+        q -= 2;
+        memcpy(q, digits2 + 2 * (v % 100), 2);
         v /= 100;
-        n -= 2;
-        memcpy(tmp + n, digits2 + 2 * r, 2);
     }
     if (v >= 10) {
-        n -= 2;
-        memcpy(tmp + n, digits2 + 2 * v, 2);
+        q -= 2;
+        memcpy(q, digits2 + 2 * v, 2);
     } else {
-        tmp[--n] = (char)('0' + v);
+        *--q = (char)('0' + v);
     }
-    memcpy(p, tmp + n, (size_t)(24 - n));
-    return p + (24 - n);
+    return end;
 }
 
 /* Binary without leading zeros ("0" for zero). */
@@ -210,19 +245,39 @@ static inline void emit_value(ks_vcd *d, const ks_vcd_var *v)
     d->pos = (size_t)(p - d->buf);
 }
 
-static void emit_time(ks_vcd *d, ks_time t)
+static __attribute__((noinline)) int64_t scale_time(ks_time t, ks_time ts_ps) { return t / ts_ps; }
+
+static inline __attribute__((always_inline)) void emit_time_inline(ks_vcd *d, ks_time t)
 {
-    int64_t vt = d->ts_ps == 1 ? t : t / d->ts_ps;
+    /* no division for the usual 1 ps timescale (a 64-bit division costs
+     * tens of cycles; the compiler would otherwise divide by 1) */
+    int64_t vt = __builtin_expect(d->ts_ps == 1, 1) ? t : scale_time(t, d->ts_ps);
     if (vt == d->last_vt)
         return;
     d->last_vt = vt;
-    ensure(d, 32);
+    ensure(d, 48);
     char *p = d->buf + d->pos;
     *p++ = '#';
-    p = put_u64(p, (uint64_t)vt);
+    /* Consecutive time stamps mostly share all but their last four digits:
+     * those are formatted once and copied. */
+    uint64_t hi = (uint64_t)vt / 10000;
+    if (hi == 0) {
+        p = put_u64(p, (uint64_t)vt);
+    } else {
+        if (hi != d->hi_val) {
+            d->hi_val = hi;
+            d->hi_len = (uint8_t)(put_u64(d->hi_str, hi) - d->hi_str);
+        }
+        memcpy(p, d->hi_str, sizeof d->hi_str);
+        p += d->hi_len;
+        memcpy(p, dec4[(uint64_t)vt - hi * 10000], 4);
+        p += 4;
+    }
     *p++ = '\n';
     d->pos = (size_t)(p - d->buf);
 }
+
+static void emit_time(ks_vcd *d, ks_time t) { emit_time_inline(d, t); }
 
 /* ---- header ---- */
 
@@ -270,8 +325,10 @@ static void write_header(ks_vcd *d)
     /* the declarations are final: room for every variable in the dirty list
      * (each is in it at most once), so ks_vcd_set need not check */
     if (d->cap_dirty < d->n_vars) {
+        size_t n = n_dirty(d);
         d->cap_dirty = d->n_vars;
         d->dirty = ks__xrealloc(d->dirty, d->cap_dirty * sizeof *d->dirty);
+        d->dirty_end = d->dirty + n;
     }
     put_str(d, "$version rtsim kernel VCD writer $end\n$timescale ");
     put_str(d, d->ts_str);
@@ -351,24 +408,30 @@ static void start_window(ks_vcd *d)
 /* Writes out the changes recorded at d->cur_t: only variables whose value
  * at the end of that time differs from the one last written (glitches
  * within one time stamp vanish, as in a sampled waveform). */
+static inline void sample(ks_vcd_var *v)
+{
+    if (v->src)
+        v->value = *v->src;
+}
+
 static void flush_dirty(ks_vcd *d)
 {
     ks_time t = d->cur_t;
     if (t < d->begin || d->ended) {
-        for (unsigned i = 0; i < d->n_dirty; i++) {
-            d->dirty[i]->emitted = d->dirty[i]->value;
-            d->dirty[i]->dirty = 0;
+        for (ks_vcd_var **v = d->dirty; v < d->dirty_end; v++) {
+            sample(*v);
+            (*v)->emitted = (*v)->value;
         }
-        d->n_dirty = 0;
+        d->dirty_end = d->dirty;
         return;
     }
     if (!d->started && t == d->begin) {
         /* changes at the first time of the window go into its $dumpvars */
-        for (unsigned i = 0; i < d->n_dirty; i++) {
-            d->dirty[i]->emitted = d->dirty[i]->value;
-            d->dirty[i]->dirty = 0;
+        for (ks_vcd_var **v = d->dirty; v < d->dirty_end; v++) {
+            sample(*v);
+            (*v)->emitted = (*v)->value;
         }
-        d->n_dirty = 0;
+        d->dirty_end = d->dirty;
         start_window(d);
         return;
     }
@@ -377,41 +440,75 @@ static void flush_dirty(ks_vcd *d)
     if (t >= d->end) {
         emit_time(d, d->end);
         d->ended = 1;
-        for (unsigned i = 0; i < d->n_dirty; i++)
-            d->dirty[i]->dirty = 0;
-        d->n_dirty = 0;
+        d->dirty_end = d->dirty;
         return;
     }
-    int timed = 0;
-    for (unsigned i = 0; i < d->n_dirty; i++) {
-        ks_vcd_var *v = d->dirty[i];
-        v->dirty = 0;
-        if (v->value != v->emitted) {
-            if (!timed) {
-                emit_time(d, t);
-                timed = 1;
-            }
-            v->emitted = v->value;
-            emit_value(d, v);
-        }
+    ks_vcd_var **list = d->dirty;
+    unsigned n = n_dirty(d), i = 0;
+    d->dirty_end = d->dirty;
+    for (; i < n; i++) { /* up to the first real change */
+        ks_vcd_var *v = list[i];
+        if ((v->src ? *v->src : v->value) != v->emitted)
+            break;
     }
-    d->n_dirty = 0;
+    if (i == n)
+        return;
+    emit_time_inline(d, t);
+    /* Bit and integer lines take at most VCD_LINE bytes: room for a chunk of
+     * them is made once, enumerations (any length) make their own. */
+    while (i < n) {
+        unsigned chunk_end = n - i > VCD_CHUNK ? i + VCD_CHUNK : n;
+        ensure(d, (size_t)(chunk_end - i) * VCD_LINE);
+        char *p = d->buf + d->pos;
+        for (; i < chunk_end; i++) {
+            ks_vcd_var *v = list[i];
+            uint64_t val = v->src ? *v->src : v->value;
+            if (val == v->emitted)
+                continue;
+            v->emitted = val;
+            if (v->kind == VAR_INT) {
+                *p++ = 'b';
+                p = put_bin(p, val);
+            } else if (v->kind == VAR_BIT) {
+                *p++ = (char)('0' + (val & 1));
+            } else {
+                d->pos = (size_t)(p - d->buf);
+                emit_enum(d, v);
+                ensure(d, (size_t)(chunk_end - i) * VCD_LINE);
+                p = d->buf + d->pos;
+                continue;
+            }
+            memcpy(p, v->tail, 8); /* padded: the extra bytes are overwritten next */
+            p += v->tail_len;
+        }
+        d->pos = (size_t)(p - d->buf);
+    }
 }
 
 /* First change of a new time stamp: write out the previous one. */
 static __attribute__((noinline)) void new_time(ks_vcd *d, ks_time now)
 {
-    if (d->n_dirty)
+    if (d->dirty_end != d->dirty)
         flush_dirty(d);
     d->cur_t = now;
     if (!d->header_done)
         write_header(d); /* freezes the declarations */
 }
 
+void ks__vcd_list_slow(ks_vcd_var *v, ks_time now)
+{
+    ks_vcd *d = v->vcd;
+    if (now != d->cur_t || !d->header_done)
+        new_time(d, now);
+    *d->dirty_end++ = v; /* room for every variable once the header is out */
+}
+
 static __attribute__((noinline)) void grow_dirty(ks_vcd *d)
 {
-    d->cap_dirty = d->cap_dirty ? d->cap_dirty * 2 : 64;
+    size_t n = n_dirty(d);
+    d->cap_dirty *= 2;
     d->dirty = ks__xrealloc(d->dirty, d->cap_dirty * sizeof *d->dirty);
+    d->dirty_end = d->dirty + n;
 }
 
 void ks__vcd_set(ks_vcd_var *v, uint64_t value)
@@ -424,11 +521,11 @@ void ks__vcd_set(ks_vcd_var *v, uint64_t value)
     if (now != d->cur_t || !d->header_done)
         new_time(d, now);
     v->value = value;
-    if (!v->dirty) {
-        v->dirty = 1;
-        if (d->n_dirty == d->cap_dirty)
+    if (v->stamp != now) {
+        v->stamp = now;
+        if (n_dirty(d) == d->cap_dirty)
             grow_dirty(d);
-        d->dirty[d->n_dirty++] = v;
+        *d->dirty_end++ = v;
     }
 }
 
@@ -478,6 +575,7 @@ static ks_vcd_var *declare(ks_vcd *d, const char *name, int kind, unsigned width
     v->width = width;
     v->mask = width >= 64 ? UINT64_MAX : (((uint64_t)1 << width) - 1);
     v->value = v->emitted = init & v->mask;
+    v->stamp = -1;
     v->name = ks__xstrdup(name);
     v->order = d->n_vars;
     unsigned n = d->n_vars;
@@ -529,6 +627,10 @@ void ks__vcd_trace_fifo(ks_vcd *d, ks_fifo *f)
     char name[600];
     snprintf(name, sizeof name, "%s.occupancy", f->name);
     f->vcd_occ = ks_vcd_var_int(d, name, 32, f->count);
+    if (f->vcd_occ) {
+        f->vcd_occ->src = &f->count; /* sampled: the FIFO lists it, no value per change */
+        f->vcd_listed = -1;
+    }
 }
 
 void ks__vcd_trace_signal(ks_vcd *d, ks_signal *s)
@@ -613,6 +715,8 @@ ks_vcd *ks_vcd_open(ks_sim *sim, const char *path, const char *timescale, ks_tim
     d->end = window_end;
     d->last_vt = -1;
     d->buf = ks__xmalloc(VCD_BUF);
+    d->cap_dirty = 64;
+    d->dirty = d->dirty_end = ks__xmalloc(d->cap_dirty * sizeof *d->dirty);
     if (filter && *filter) {
         const char *p = filter;
         while (*p) {
@@ -646,7 +750,7 @@ void ks__vcd_finish(ks_vcd *d)
 {
     if (!d->header_done)
         write_header(d);
-    if (d->n_dirty)
+    if (d->dirty_end != d->dirty)
         flush_dirty(d);
     ks_time now = *d->now;
     if (!d->started && now >= d->begin)
@@ -675,8 +779,10 @@ int ks_vcd_close(ks_vcd *d)
         remove(d->tmp_path);
         rc = -1;
     }
-    for (size_t i = 0; i < sim->n_fifos; i++)
+    for (size_t i = 0; i < sim->n_fifos; i++) {
         sim->fifos[i]->vcd_occ = NULL;
+        sim->fifos[i]->vcd_listed = KS_TIME_MAX;
+    }
     for (size_t i = 0; i < sim->n_signals; i++)
         sim->signals[i]->vcd_var = NULL;
     sim->vcd = NULL;

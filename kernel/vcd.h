@@ -52,14 +52,15 @@ ks_vcd_var *ks_vcd_var_enum(ks_vcd *vcd, const char *name, const char *const *na
 struct ks__vcd_head {
     const ks_time *now;
     ks_time cur_t;             /* time of the changes in the dirty list */
-    ks_vcd_var **dirty;        /* variables changed at cur_t */
-    unsigned n_dirty, cap_dirty;
+    ks_vcd_var **dirty;        /* variables changed at cur_t ... */
+    ks_vcd_var **dirty_end;    /* ... up to here */
+    unsigned cap_dirty;
     uint8_t header_done;
 };
 struct ks__vcd_var_head {
     struct ks__vcd_head *vcd;
     uint64_t value, mask;
-    uint8_t dirty;
+    ks_time stamp;             /* time of its dirty-list entry (-1: none) */
 };
 void ks__vcd_set(ks_vcd_var *var, uint64_t value);
 static inline void ks_vcd_set(ks_vcd_var *var, uint64_t value)
@@ -77,13 +78,27 @@ static inline void ks_vcd_set(ks_vcd_var *var, uint64_t value)
      * variable. */
     if (*d->now == d->cur_t) {
         h->value = value;
-        if (!h->dirty) {
-            h->dirty = 1;
-            d->dirty[d->n_dirty++] = var;
+        if (h->stamp != d->cur_t) {
+            h->stamp = d->cur_t;
+            *d->dirty_end++ = var;
         }
         return;
     }
     ks__vcd_set(var, value);
+}
+/* Sampled variables (a FIFO's occupancy): the value is read from the
+ * traced location when the time stamp is written out, so the owner only
+ * lists the variable once per time stamp (it keeps track of that), before
+ * its first change there. */
+void ks__vcd_list_slow(ks_vcd_var *var, ks_time now);
+static inline void ks__vcd_list(ks_vcd_var *var, ks_time now)
+{
+    struct ks__vcd_head *d = ((struct ks__vcd_var_head *)var)->vcd;
+    if (d->cur_t == now) {
+        *d->dirty_end++ = var;
+        return;
+    }
+    ks__vcd_list_slow(var, now);
 }
 /* Bytes written so far (including what is still buffered). */
 uint64_t ks_vcd_bytes(const ks_vcd *vcd);

@@ -373,6 +373,65 @@ static eq_result run_eq(int exhaustive, uint64_t n)
     return r;
 }
 
+/* Occupancy integral with a latency: items written at cycles 0, 0 and 4
+ * of a 2 ns clock through a 3-cycle FIFO, the first read at cycle 3; at
+ * t = 10 ns one item is still waiting for its ready time (14 ns). Residence
+ * times: 6 + 10 + 2 ns = 18 ns over 10 ns = 1.8; at 20 ns, with the second
+ * item read at cycle 7 (14 ns) and the third at 15 ns: 6 + 14 + 7 = 27 ns
+ * over 20 ns = 1.35. */
+typedef struct wlat_ctx {
+    ks_fifo *f;
+} wlat_ctx;
+
+static int wlat_step(void *u, uint64_t cycle)
+{
+    wlat_ctx *c = u;
+    uint32_t v = (uint32_t)cycle;
+    if (cycle == 0) {
+        KS_FIFO_WRITE(c->f, &v);
+        KS_FIFO_WRITE(c->f, &v);
+    } else if (cycle == 3 || cycle == 7) {
+        TB_CHECK(KS_FIFO_READ(c->f, &v), "read at cycle %llu failed", (unsigned long long)cycle);
+    } else if (cycle == 4) {
+        KS_FIFO_WRITE(c->f, &v);
+    }
+    return cycle < 12;
+}
+
+static void wlat_read_late(void *u)
+{
+    wlat_ctx *c = u;
+    uint32_t v;
+    TB_CHECK(KS_FIFO_READ(c->f, &v), "read at 15 ns failed");
+}
+
+static void test_occupancy_with_latency(void)
+{
+    tb_begin("fifo_time_weighted_mean_with_latency_and_pending_items");
+    ks_sim *sim = ks_sim_create();
+    ks_clock *clk = ks_clock_create(sim, "clk", 2000);
+    wlat_ctx c;
+    c.f = ks_fifo_create(sim, "top.lat", sizeof(uint32_t), 4, 3, clk);
+    ks_clocked_create(clk, "top.p", wlat_step, &c);
+    TB_EQ_INT(ks_sim_run(sim, KS_NS(10)), KS_RUN_TIME_LIMIT);
+    TB_EQ_INT(ks_fifo_occupancy(c.f), 2);
+    TB_EQ_INT(ks_fifo_head_ready_time(c.f), KS_NS(6));
+    double mean = ks_fifo_mean_occupancy(c.f);
+    TB_CHECK(mean > 1.8 - 1e-12 && mean < 1.8 + 1e-12, "mean occupancy %.15g at 10 ns, expected 1.8",
+             mean);
+    ks_method *m = ks_method_create(sim, "top.late", wlat_read_late, &c);
+    ks_method_dont_initialize(m);
+    ks_next_trigger_time(m, KS_NS(5)); /* 15 ns */
+    TB_EQ_INT(ks_sim_run(sim, KS_NS(20)), KS_RUN_TIME_LIMIT);
+    TB_EQ_INT(ks_fifo_occupancy(c.f), 0);
+    TB_EQ_INT(ks_fifo_total_reads(c.f), 3);
+    mean = ks_fifo_mean_occupancy(c.f);
+    TB_CHECK(mean > 1.35 - 1e-12 && mean < 1.35 + 1e-12, "mean occupancy %.15g at 20 ns, expected 1.35",
+             mean);
+    ks_sim_destroy(sim);
+    tb_end();
+}
+
 static void test_idle_skipping(void)
 {
     tb_begin("idle_skipping_is_bit_identical_to_ticking_every_cycle");
@@ -530,6 +589,7 @@ int main(void)
     test_latency();
     test_backpressure();
     test_occupancy_stats();
+    test_occupancy_with_latency();
     test_idle_skipping();
     test_deadlock();
     return tb_finish();

@@ -421,31 +421,51 @@ static inline uint64_t class_scan(const dchan *ch, uint64_t bits, int cmd, int64
     return t <= now ? rdy : 0;
 }
 
-/* pick_counted for a channel of one rank with at most 64 banks (LPDDR3: 8), the
- * same result from bank bitmasks: per class (ACT for closed banks with non-hit
- * entries, PRE for open ones, RD and WR row hits) the banks' minimum and ready set. */
-static int pick_counted1(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, int64_t *min_earliest)
+/* class_scan's bound alone: min(lo, earliest cycle of the banks `bits` needing cmd). */
+static inline int64_t class_min(const dchan *ch, uint64_t bits, int cmd, int64_t lo)
 {
-    const int64_t now = c->clk;
-    int64_t lo = *min_earliest;
-    class_ready cr;
-    cr.other = class_scan(ch, q->cls_other & ~ch->open_mask, DRAM_ACT, now, &lo) |
-               class_scan(ch, q->cls_other & ch->open_mask, DRAM_PRE, now, &lo);
-    cr.rd = class_scan(ch, q->cls_rd, DRAM_RD, now, &lo) & ~ch->capped_mask;
-    cr.wr = class_scan(ch, q->cls_wr, DRAM_WR, now, &lo) & ~ch->capped_mask;
-    *min_earliest = lo;
-    const int any = (cr.other | cr.rd | cr.wr) != 0;
+    if (!bits)
+        return lo;
+    int64_t mn = INT64_MAX;
+    for (; bits; bits &= bits - 1) {
+        const int64_t x = ch->banks[__builtin_ctzll(bits)].next[cmd];
+        mn = x < mn ? x : mn;
+    }
+    const int64_t e = max64(max64(ch->next[cmd], ch->ranks[0].next[cmd]), mn);
+    return e < lo ? e : lo;
+}
+
+/* The ready sets and earliest-cycle bound of a channel of one rank with at most 64
+ * banks (LPDDR3: 8) for the request classes `other`, `rd`, `wr` (bank masks; the
+ * union of the queues about to be searched: a class's readiness depends only on
+ * its bank and command, not on the queue): per class (ACT for closed banks with
+ * non-hit entries, PRE for open ones, RD and WR row hits) the banks' minimum and
+ * ready set, row hits over the cap excluded from the ready sets. */
+static inline void class_state(const dchan *ch, uint64_t other, uint64_t rd, uint64_t wr, int64_t now,
+                               class_ready *cr, int64_t *lo)
+{
+    cr->other = class_scan(ch, other & ~ch->open_mask, DRAM_ACT, now, lo) |
+                class_scan(ch, other & ch->open_mask, DRAM_PRE, now, lo);
+    cr->rd = class_scan(ch, rd, DRAM_RD, now, lo) & ~ch->capped_mask;
+    cr->wr = class_scan(ch, wr, DRAM_WR, now, lo) & ~ch->capped_mask;
+}
+
+/* pick_counted's choice in q given the ready sets of class_state (which covered
+ * q's classes): the first (sorted) or oldest ready entry, else the oldest. */
+static int find_ready1(dchan *ch, const dqueue *q, int sorted, const class_ready *cr)
+{
+    const int any = ((cr->other & q->cls_other) | (cr->rd & q->cls_rd) | (cr->wr & q->cls_wr)) != 0;
     if (sorted) {
         if (any)
             for (int i = 0; i < q->n; i++)
-                if (class_ready_has(&ch->banks[q->v[i].bidx], &q->v[i], &cr))
+                if (class_ready_has(&ch->banks[q->v[i].bidx], &q->v[i], cr))
                     return i;
         return 0;
     }
     int best = 0, best_ready = any ? -1 : 0; /* without ready entries, the oldest of all */
     for (int i = 0; i < q->n; i++) {
         const dreq *r = &q->v[i];
-        if (any && !class_ready_has(&ch->banks[r->bidx], r, &cr))
+        if (any && !class_ready_has(&ch->banks[r->bidx], r, cr))
             continue;
         if (best_ready < 0 || r->arrive < q->v[best].arrive) {
             best = i;
@@ -453,6 +473,15 @@ static int pick_counted1(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, i
         }
     }
     return best;
+}
+
+/* pick_counted for a channel of one rank with at most 64 banks: class_state over
+ * q's own classes, then find_ready1. */
+static int pick_counted1(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, int64_t *min_earliest)
+{
+    class_ready cr;
+    class_state(ch, q->cls_other, q->cls_rd, q->cls_wr, c->clk, &cr, min_earliest);
+    return find_ready1(ch, q, sorted, &cr);
 }
 
 /* pick() for a counted queue, with the same result: per bank, the requests fall in
@@ -531,6 +560,54 @@ static int pick_counted(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, in
         }
     }
     return best;
+}
+
+/* The lower bound a scan at the next tick would compute (lo of pick_counted/pick)
+ * over q, without looking for a ready entry: the minimum over q's classes (or, for
+ * an uncounted queue, entries) of the earliest cycle of their next command. */
+static int64_t queue_bound(const dram_ctrl *c, dchan *ch, const dqueue *q, int64_t lo)
+{
+    if (q->n == 0)
+        return lo;
+    if (!q->bc) {
+        for (int i = 0; i < q->n; i++) {
+            const int64_t e = earliest(c, ch, &q->v[i], first_cmd(c, ch, &q->v[i]));
+            lo = e < lo ? e : lo;
+        }
+        return lo;
+    }
+    int64_t t_act = 0, t_pre = 0, t_rd = 0, t_wr = 0;
+    int cur_rank = -1;
+    const int words = (c->nrank * c->nbank + 63) >> 6;
+    for (int w = 0; w < words; w++) {
+        for (uint64_t bits = q->used[w]; bits; bits &= bits - 1) {
+            const int i = (w << 6) + __builtin_ctzll(bits);
+            const int rk = c->nrank == 1 ? 0 : i / c->nbank;
+            if (rk != cur_rank) {
+                const int64_t *cn = ch->next, *rn = ch->ranks[rk].next;
+                t_act = max64(cn[DRAM_ACT], rn[DRAM_ACT]);
+                t_pre = max64(cn[DRAM_PRE], rn[DRAM_PRE]);
+                t_rd = max64(cn[DRAM_RD], rn[DRAM_RD]);
+                t_wr = max64(cn[DRAM_WR], rn[DRAM_WR]);
+                cur_rank = rk;
+            }
+            const dqcount k = q->bc[i];
+            const dbank *b = &ch->banks[i];
+            if (k.n > k.hit[REQ_READ] + k.hit[REQ_WRITE]) {
+                const int64_t e = b->open_row < 0 ? max64(t_act, b->next[DRAM_ACT]) : max64(t_pre, b->next[DRAM_PRE]);
+                lo = e < lo ? e : lo;
+            }
+            if (k.hit[REQ_READ]) {
+                const int64_t e = max64(t_rd, b->next[DRAM_RD]);
+                lo = e < lo ? e : lo;
+            }
+            if (k.hit[REQ_WRITE]) {
+                const int64_t e = max64(t_wr, b->next[DRAM_WR]);
+                lo = e < lo ? e : lo;
+            }
+        }
+    }
+    return lo;
 }
 
 /* ---- issuing ---- */
@@ -695,6 +772,39 @@ static int write_mode_next(const dram_ctrl *c, const dchan *ch)
     return !(ch->writeq.n < lo && ch->readq.n != 0);
 }
 
+/* After a command: the scan of the next tick finds nothing to issue when every
+ * candidate's earliest cycle is later than that tick; then it would only set
+ * sched_wake to that bound, which is set here instead (the queues it scans are
+ * those of the current mode; a mode change or refresh at that tick resets it,
+ * and adds fold themselves in as after a fruitless scan). */
+static void next_scan_bound(const dram_ctrl *c, dchan *ch)
+{
+    if (c->exhaustive)
+        return;
+    const dqueue *q = ch->otherq.n ? &ch->otherq : ch->write_mode ? &ch->writeq : &ch->readq;
+    int64_t lo = INT64_MAX;
+    if (c->fast_scan) {
+        /* the minimum over the union of both queues' classes per command */
+        const dqueue *a = &ch->actq;
+        uint64_t other = a->cls_other, rd = a->cls_rd, wr = a->cls_wr;
+        if (q->bc) {
+            other |= q->cls_other;
+            rd |= q->cls_rd;
+            wr |= q->cls_wr;
+        } else {
+            lo = queue_bound(c, ch, q, lo);
+        }
+        lo = class_min(ch, other & ~ch->open_mask, DRAM_ACT, lo);
+        lo = class_min(ch, other & ch->open_mask, DRAM_PRE, lo);
+        lo = class_min(ch, rd, DRAM_RD, lo);
+        lo = class_min(ch, wr, DRAM_WR, lo);
+    } else {
+        lo = queue_bound(c, ch, q, queue_bound(c, ch, &ch->actq, lo));
+    }
+    if (lo > c->clk + 1)
+        ch->sched_wake = lo;
+}
+
 static void chan_tick(dram_ctrl *c, int chi)
 {
     dchan *ch = &c->ch[chi];
@@ -738,16 +848,27 @@ static void chan_tick(dram_ctrl *c, int chi)
         return;
     int64_t lo = INT64_MAX;
     dqueue *q = &ch->actq;
-    int i = c->exhaustive ? pick(c, ch, q, 0, &lo) : pick_counted(c, ch, q, 0, &lo);
-    int cmd = -1;
+    dqueue *mq = ch->otherq.n ? &ch->otherq : ch->write_mode ? &ch->writeq : &ch->readq;
+    int i, cmd = -1;
+    class_ready cr;
+    const int shared = c->fast_scan && !c->exhaustive && mq != &ch->otherq;
+    if (shared) { /* one class state for actq and the mode's queue */
+        class_state(ch, q->cls_other | mq->cls_other, q->cls_rd | mq->cls_rd, q->cls_wr | mq->cls_wr, now, &cr, &lo);
+        i = q->n ? find_ready1(ch, q, 0, &cr) : -1;
+    } else {
+        i = c->exhaustive ? pick(c, ch, q, 0, &lo) : pick_counted(c, ch, q, 0, &lo);
+    }
     if (i >= 0) {
         cmd = first_cmd(c, ch, &q->v[i]);
         if (earliest(c, ch, &q->v[i], cmd) > now)
             i = -1;
     }
     if (i < 0) {
-        q = ch->otherq.n ? &ch->otherq : ch->write_mode ? &ch->writeq : &ch->readq;
-        i = c->exhaustive || q == &ch->otherq ? pick(c, ch, q, 1, &lo) : pick_counted(c, ch, q, 1, &lo);
+        q = mq;
+        if (shared)
+            i = q->n ? find_ready1(ch, q, 1, &cr) : -1;
+        else
+            i = c->exhaustive || q == &ch->otherq ? pick(c, ch, q, 1, &lo) : pick_counted(c, ch, q, 1, &lo);
         if (i >= 0) {
             cmd = first_cmd(c, ch, &q->v[i]);
             if (earliest(c, ch, &q->v[i], cmd) > now)
@@ -778,6 +899,7 @@ static void chan_tick(dram_ctrl *c, int chi)
             q_erase(q, ch->banks, i);
             q_push(&ch->actq, ch->banks, &moved);
         }
+        next_scan_bound(c, ch);
         return;
     }
     dreq done = *r;
@@ -793,6 +915,7 @@ static void chan_tick(dram_ctrl *c, int chi)
         if (c->done)
             c->done(c->done_user, done.addr, done.tag, true, now - done.arrive);
     }
+    next_scan_bound(c, ch);
 }
 
 void dram_tick(dram_ctrl *c)
@@ -811,7 +934,7 @@ int dram_pending(const dram_ctrl *c)
 static int64_t chan_next_event(const dram_ctrl *c, dchan *ch)
 {
     const int64_t soon = c->clk + 1;
-    if (ch->sched_wake == 0 || ch->scan_due || write_mode_next(c, ch) != ch->write_mode)
+    if (ch->sched_wake == 0 || write_mode_next(c, ch) != ch->write_mode)
         return soon;
     int64_t t = ch->refreshed + c->spec->refresh_interval;
     if (ch->pend_n && ch->pend[ch->pend_head].depart < t)

@@ -71,12 +71,10 @@ typedef struct dchan {
     uint64_t capped_mask;      /* banks 0..63 whose row hits exceed the cap */
     int64_t sched_wake;        /* no command can issue before this cycle unless the queues or
                                   bank states change (0 = unknown: run the scheduler) */
-    int scan_due;              /* a request was added since the last scan point: the next tick
-                                  is an event (dram_next_event) even when sched_wake, kept exact
-                                  by dram_add, lets it skip the scan; so the controller is ticked,
-                                  and a kernel port woken, in the same cycles as if every add
-                                  forced a rescan */
     int64_t refreshed;         /* cycle of the last refresh injection */
+    int64_t occ_upto;          /* queue_occupancy_sum covers the ticks up to this cycle: the
+                                  count is constant between changes, so it is added per change
+                                  (occ_flush) rather than per tick */
     dram_chan_stats st;
 } dchan;
 
@@ -716,6 +714,15 @@ static void issue(dram_ctrl *c, int chi, int cmd, int rank, int bank, uint32_t r
     }
 }
 
+/* Accounts ticks occ_upto+1 .. upto at the current readq + writeq + pend count (call
+ * before the count changes: at a tick before its own changes, at an add after the
+ * tick of its cycle). */
+static inline void occ_flush(dchan *ch, int64_t upto)
+{
+    ch->st.queue_occupancy_sum += (uint64_t)(upto - ch->occ_upto) * (uint64_t)(ch->readq.n + ch->writeq.n + ch->pend_n);
+    ch->occ_upto = upto;
+}
+
 /* ---- requests ---- */
 
 static dqueue *queue_for(dchan *ch, bool is_write) { return is_write ? &ch->writeq : &ch->readq; }
@@ -737,6 +744,7 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
     if (queue_for(ch, is_write)->n >= (is_write ? c->spec->write_queue : c->spec->read_queue))
         return false; /* = !dram_will_accept() */
     c->pending++;
+    occ_flush(ch, c->clk);
     dreq r = {.addr = addr, .tag = tag, .arrive = c->clk, .depart = 0, .row = a.row,
               .rank = (uint16_t)a.rank, .bank = (uint16_t)a.bank,
               .bidx = (uint16_t)(a.rank * (uint32_t)c->nbank + a.bank), .type = is_write ? REQ_WRITE : REQ_READ, .first = 1};
@@ -755,7 +763,6 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
      * cycle folded in (as the next scan would compute it) when the next scan looks
      * at its queue; a queue it does not look at leaves it unchanged (a mode change
      * resets it). */
-    ch->scan_due = 1;
     if (ch->sched_wake && !ch->otherq.n && q == (ch->write_mode ? &ch->writeq : &ch->readq)) {
         const int64_t e = earliest(c, ch, &r, first_cmd(c, ch, &r));
         if (e < ch->sched_wake)
@@ -809,7 +816,7 @@ static void chan_tick(dram_ctrl *c, int chi)
 {
     dchan *ch = &c->ch[chi];
     const int64_t now = c->clk;
-    ch->st.queue_occupancy_sum += (uint64_t)(ch->readq.n + ch->writeq.n + ch->pend_n);
+    occ_flush(ch, now);
     /* 1. one completed read */
     if (ch->pend_n && ch->pend[ch->pend_head].depart <= now) {
         dreq r = ch->pend[ch->pend_head];
@@ -843,7 +850,6 @@ static void chan_tick(dram_ctrl *c, int chi)
     }
     /* 4. one command: actq first, then refresh, then the mode's queue. While nothing
      * changed since the last scan found nothing issuable, skip the scan. */
-    ch->scan_due = 0;
     if (now < ch->sched_wake && !c->exhaustive)
         return;
     int64_t lo = INT64_MAX;
@@ -962,11 +968,7 @@ void dram_set_exhaustive(dram_ctrl *c, bool on) { c->exhaustive = on; }
 /* Jumps k idle cycles, accounting what ticking through them would have. */
 static void skip_by(dram_ctrl *c, int64_t k)
 {
-    for (int i = 0; i < c->nch; i++) {
-        dchan *ch = &c->ch[i];
-        ch->st.queue_occupancy_sum += (uint64_t)k * (uint64_t)(ch->readq.n + ch->writeq.n + ch->pend_n);
-    }
-    c->clk += k;
+    c->clk += k; /* queue occupancy: accounted lazily (occ_flush) */
 }
 
 int64_t dram_skip(dram_ctrl *c)
@@ -983,16 +985,30 @@ int64_t dram_skip(dram_ctrl *c)
 
 void dram_advance_to(dram_ctrl *c, int64_t cycle)
 {
+    if (c->exhaustive) {
+        while (c->clk < cycle)
+            dram_tick(c);
+        return;
+    }
+    /* Tick only at events and, there, only the channels with one: a channel's tick
+     * before its next event changes nothing (its queue occupancy is accounted
+     * lazily), and channels tick in order, so callbacks keep their order. */
+    int64_t ev[16];
+    const int nch = c->nch;
     while (c->clk < cycle) {
-        if (!c->exhaustive) {
-            const int64_t t = dram_next_event(c) - 1;
-            const int64_t stop = t < cycle ? t : cycle;
-            if (stop > c->clk)
-                skip_by(c, stop - c->clk);
-            if (c->clk == cycle)
-                break;
+        int64_t t = INT64_MAX;
+        for (int i = 0; i < nch; i++) {
+            ev[i] = chan_next_event(c, &c->ch[i]);
+            t = ev[i] < t ? ev[i] : t;
         }
-        dram_tick(c);
+        if (t > cycle) {
+            c->clk = cycle;
+            break;
+        }
+        c->clk = t;
+        for (int i = 0; i < nch; i++)
+            if (ev[i] == t)
+                chan_tick(c, i);
     }
 }
 
@@ -1000,6 +1016,7 @@ void dram_chan_stats_get(const dram_ctrl *c, int channel, dram_chan_stats *out)
 {
     const dchan *ch = &c->ch[channel];
     *out = ch->st;
+    out->queue_occupancy_sum += (uint64_t)(c->clk - ch->occ_upto) * (uint64_t)(ch->readq.n + ch->writeq.n + ch->pend_n);
     for (int r = 0; r < c->nrank; r++)
         if (ch->ranks[r].nopen)
             out->open_cycles += (uint64_t)(c->clk - ch->ranks[r].open_since);

@@ -72,11 +72,18 @@ typedef struct dchan {
     int64_t sched_wake;        /* no command can issue before this cycle unless the queues or
                                   bank states change (0 = unknown: run the scheduler) */
     int64_t refreshed;         /* cycle of the last refresh injection */
+    int rd_live, wr_live;      /* reads / writes in readq, writeq or actq (not yet issued) */
     int64_t occ_upto;          /* queue_occupancy_sum covers the ticks up to this cycle: the
                                   count is constant between changes, so it is added per change
                                   (occ_flush) rather than per tick */
     dram_chan_stats st;
 } dchan;
+
+/* One row of a command's flattened list (scope 0 channel, 1 rank, 2 bank). */
+typedef struct issue_row {
+    uint8_t scope, to, window;
+    int32_t cycles;
+} issue_row;
 
 /* Constraint rows grouped by (scope, FROM). */
 typedef struct cons_row {
@@ -102,6 +109,11 @@ struct dram_ctrl {
     cons_row rows[DRAM_MAX_CONSTRAINTS];
     int row_start[DRAM_NSCOPE][DRAM_NCMD], row_count[DRAM_NSCOPE][DRAM_NCMD];
     int max_window[DRAM_NSCOPE][DRAM_NCMD];
+    /* per FROM command, its channel, rank and (bank commands) bank rows in one list,
+     * the scope as the target index (0 channel, 1 rank, 2 bank): issue() applies them
+     * in one loop (each row only raises a next[], so the order does not matter) */
+    issue_row irows[DRAM_NCMD][DRAM_MAX_CONSTRAINTS];
+    int n_irows[DRAM_NCMD];
 };
 
 static void *xcalloc(size_t n, size_t sz)
@@ -251,6 +263,14 @@ dram_ctrl *dram_ctrl_create(const dram_spec *spec, dram_done_fn done, void *user
             }
             c->row_count[s][f] = n - c->row_start[s][f];
         }
+    for (int f = 0; f < DRAM_NCMD; f++) {
+        const int nscope = dram_cmd_is_bank_scoped(f) ? 3 : 2;
+        for (int sc = 0; sc < nscope; sc++)
+            for (int i = 0; i < c->row_count[sc][f]; i++) {
+                const cons_row *r = &c->rows[c->row_start[sc][f] + i];
+                c->irows[f][c->n_irows[f]++] = (issue_row){(uint8_t)sc, r->to, r->window, r->cycles};
+            }
+    }
     c->ch = xcalloc((size_t)c->nch, sizeof *c->ch);
     for (int i = 0; i < c->nch; i++) {
         dchan *ch = &c->ch[i];
@@ -672,11 +692,22 @@ static void issue(dram_ctrl *c, int chi, int cmd, int rank, int bank, uint32_t r
         hist_push(ch->hist, cmd, c->max_window[DRAM_SCOPE_CHANNEL][cmd], now);
     if (c->max_window[DRAM_SCOPE_RANK][cmd] > 1)
         hist_push(rk->hist, cmd, c->max_window[DRAM_SCOPE_RANK][cmd], now);
-    apply_rows(c, DRAM_SCOPE_CHANNEL, cmd, ch->next, (const int64_t(*)[DRAM_MAX_WINDOW])ch->hist, now);
-    apply_rows(c, DRAM_SCOPE_RANK, cmd, rk->next, (const int64_t(*)[DRAM_MAX_WINDOW])rk->hist, now);
     dbank *banks = &ch->banks[rank * c->nbank];
+    {
+        int64_t *const tgt[3] = {ch->next, rk->next, banks[bank < 0 ? 0 : bank].next};
+        const int64_t *const hst[2] = {ch->hist[cmd], rk->hist[cmd]};
+        const issue_row *row = c->irows[cmd];
+        for (int i = 0, n = c->n_irows[cmd]; i < n; i++) {
+            const int64_t from = row[i].window == 1 ? now : hst[row[i].scope][row[i].window - 1];
+            if (from == NEVER)
+                continue;
+            const int64_t t = from + row[i].cycles;
+            int64_t *nx = &tgt[row[i].scope][row[i].to];
+            if (t > *nx)
+                *nx = t;
+        }
+    }
     if (dram_cmd_is_bank_scoped(cmd)) {
-        apply_rows(c, DRAM_SCOPE_BANK, cmd, banks[bank].next, NULL, now);
         if (c->row_count[DRAM_SCOPE_SIBLING][cmd])
             for (int b = 0; b < c->nbank; b++)
                 if (b != bank)
@@ -758,6 +789,10 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
             }
     dqueue *q = queue_for(ch, is_write);
     q_push(q, ch->banks, &r);
+    if (is_write)
+        ch->wr_live++;
+    else
+        ch->rd_live++;
     /* The last scan found nothing issuable before sched_wake and nothing changed
      * since but this entry: the bound stays valid with the entry's own earliest
      * cycle folded in (as the next scan would compute it) when the next scan looks
@@ -911,11 +946,13 @@ static void chan_tick(dram_ctrl *c, int chi)
     dreq done = *r;
     q_erase(q, ch->banks, i);
     if (done.type == REQ_READ) {
+        ch->rd_live--;
         done.depart = now + c->spec->read_latency;
         pend_push(ch, &done);
     } else if (done.type == REQ_REFRESH) {
         c->pending--;
     } else if (done.type == REQ_WRITE) {
+        ch->wr_live--;
         c->pending--;
         ch->st.writes_done++;
         if (c->done)
@@ -959,6 +996,54 @@ int64_t dram_next_event(const dram_ctrl *c)
             t = e;
         if (t == c->clk + 1)
             break;
+    }
+    return t;
+}
+
+/* A channel's bound for dram_next_completion. Until the next command, the state
+ * is frozen, so that command is some queued request's next command at or after its
+ * earliest cycle: every command issues at or after the minimum of those (lo), every
+ * read completes read_latency after its RD, a write at its WR. A refresh changes
+ * the banks without a request's command, so its injection and its commands bound
+ * too; a read issued already completes at the head of pend first (FIFO), before
+ * any read issued from now on (pend's head departs by now + read_latency). */
+static int64_t chan_next_completion(const dram_ctrl *c, dchan *ch)
+{
+    const int64_t soon = c->clk + 1;
+    int64_t t = ch->refreshed + c->spec->refresh_interval;
+    if (ch->pend_n && ch->pend[ch->pend_head].depart < t)
+        t = ch->pend[ch->pend_head].depart;
+    if (ch->otherq.n)
+        t = queue_bound(c, ch, &ch->otherq, t);
+    if (ch->wr_live || (ch->rd_live && !ch->pend_n)) {
+        int64_t lo = INT64_MAX;
+        const dqueue *a = &ch->actq, *r = &ch->readq, *w = &ch->writeq;
+        if (c->fast_scan) {
+            const uint64_t other = a->cls_other | r->cls_other | w->cls_other;
+            lo = class_min(ch, other & ~ch->open_mask, DRAM_ACT, lo);
+            lo = class_min(ch, other & ch->open_mask, DRAM_PRE, lo);
+            lo = class_min(ch, a->cls_rd | r->cls_rd | w->cls_rd, DRAM_RD, lo);
+            lo = class_min(ch, a->cls_wr | r->cls_wr | w->cls_wr, DRAM_WR, lo);
+        } else {
+            lo = queue_bound(c, ch, w, queue_bound(c, ch, r, queue_bound(c, ch, a, lo)));
+        }
+        lo = lo < soon ? soon : lo;
+        if (ch->wr_live && lo < t)
+            t = lo;
+        if (ch->rd_live && !ch->pend_n && lo + c->spec->read_latency < t)
+            t = lo + c->spec->read_latency;
+    }
+    return t < soon ? soon : t;
+}
+
+int64_t dram_next_completion(const dram_ctrl *c)
+{
+    if (c->exhaustive)
+        return c->clk + 1;
+    int64_t t = INT64_MAX;
+    for (int i = 0; i < c->nch; i++) {
+        const int64_t e = chan_next_completion(c, &c->ch[i]);
+        t = e < t ? e : t;
     }
     return t;
 }

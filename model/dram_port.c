@@ -234,16 +234,14 @@ static int step(void *user, uint64_t cycle)
     uint64_t made = p->progress + (uint64_t)accepted;
     uint64_t next = UINT64_MAX;
     const int drain_due = p->input_done && !p->drained && p->cur < 0 && ks_fifo_occupancy(p->req) == 0;
-    /* The port wakes at the controller's next event even when only a completion
-     * matters to it: sleeping until the next possible completion would be exact
-     * for the memory but changes the cycles the port runs in, and with tiny
-     * response FIFOs the units' idle skipping is not exact (the stress_small
-     * cases of RTSIM_LPDDR3_SWEEP differ from --exhaustive), so results there
-     * would change (docs/accel.md, "Speed"). */
+    /* Otherwise the port matters only where a request completes, or, while the
+     * head request waits for a full controller queue, where a command may free an
+     * entry (the controller's next event); the controller catches up lazily in
+     * between (dram_advance_to), ticking exactly the cycles it would have. */
     if ((accepted && !p->ready_n && (p->cur >= 0 || ks_fifo_can_read(p->req))) || drain_due)
         next = cycle + 1;
     else if (dram_pending(p->c))
-        next = (uint64_t)dram_next_event(p->c);
+        next = (uint64_t)(p->stall_since >= 0 ? dram_next_event(p->c) : dram_next_completion(p->c));
     /* a request still in flight in the FIFO (latency): wake at its ready time
      * explicitly rather than rely on its written notification alone (an event keeps
      * one pending notification, event.h) */

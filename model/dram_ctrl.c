@@ -18,6 +18,8 @@ typedef struct dreq {
     uint16_t bidx;         /* rank * banks + bank */
     uint8_t type;
     uint8_t first;         /* no command issued yet (row hit/miss/conflict not yet counted) */
+    uint8_t hit;           /* in a counted queue: targets its bank's open row (kept by q_push
+                              and q_recount, so the scans need not look at the bank) */
 } dreq;
 
 /* A request queue. Read, write and act queues also keep, per bank, how many
@@ -180,10 +182,16 @@ static void q_recount(dqueue *q, const dbank *banks, int bidx)
     if (banks[bidx].open_row >= 0) {
         const uint32_t row = (uint32_t)banks[bidx].open_row;
         for (int i = 0; i < q->n; i++) {
-            const dreq *r = &q->v[i];
-            if (r->bidx == bidx && r->row == row)
-                k->hit[r->type]++;
+            dreq *r = &q->v[i];
+            if (r->bidx == bidx) {
+                r->hit = r->row == row;
+                k->hit[r->type] = (uint16_t)(k->hit[r->type] + r->hit);
+            }
         }
+    } else {
+        for (int i = 0; i < q->n; i++)
+            if (q->v[i].bidx == bidx)
+                q->v[i].hit = 0;
     }
     q_class_bits(q, bidx);
 }
@@ -205,6 +213,7 @@ static void q_push(dqueue *q, const dbank *banks, const dreq *r)
 {
     q_count(q, banks, r, +1);
     q_push_raw(q, r);
+    q->v[q->n - 1].hit = banks[r->bidx].open_row >= 0 && (uint32_t)banks[r->bidx].open_row == r->row;
 }
 
 
@@ -408,12 +417,10 @@ typedef struct class_ready {
     uint64_t other, rd, wr;
 } class_ready;
 
-static inline int class_ready_has(const dbank *b, const dreq *r, const class_ready *cr)
+static inline int class_ready_has(const dreq *r, const class_ready *cr)
 {
-    const uint64_t bit = 1ull << r->bidx;
-    if (b->open_row >= 0 && (uint32_t)b->open_row == r->row)
-        return (r->type == REQ_WRITE ? cr->wr : cr->rd) & bit ? 1 : 0;
-    return cr->other & bit ? 1 : 0;
+    const uint64_t set = r->hit ? (r->type == REQ_WRITE ? cr->wr : cr->rd) : cr->other;
+    return (int)((set >> r->bidx) & 1);
 }
 
 /* One command class of pick_counted1: banks `bits` need `cmd`; their earliest cycle
@@ -470,20 +477,20 @@ static inline void class_state(const dchan *ch, uint64_t other, uint64_t rd, uin
 
 /* pick_counted's choice in q given the ready sets of class_state (which covered
  * q's classes): the first (sorted) or oldest ready entry, else the oldest. */
-static int find_ready1(dchan *ch, const dqueue *q, int sorted, const class_ready *cr)
+static int find_ready1(const dqueue *q, int sorted, const class_ready *cr)
 {
     const int any = ((cr->other & q->cls_other) | (cr->rd & q->cls_rd) | (cr->wr & q->cls_wr)) != 0;
     if (sorted) {
         if (any)
             for (int i = 0; i < q->n; i++)
-                if (class_ready_has(&ch->banks[q->v[i].bidx], &q->v[i], cr))
+                if (class_ready_has(&q->v[i], cr))
                     return i;
         return 0;
     }
     int best = 0, best_ready = any ? -1 : 0; /* without ready entries, the oldest of all */
     for (int i = 0; i < q->n; i++) {
         const dreq *r = &q->v[i];
-        if (any && !class_ready_has(&ch->banks[r->bidx], r, cr))
+        if (any && !class_ready_has(r, cr))
             continue;
         if (best_ready < 0 || r->arrive < q->v[best].arrive) {
             best = i;
@@ -499,7 +506,7 @@ static int pick_counted1(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, i
 {
     class_ready cr;
     class_state(ch, q->cls_other, q->cls_rd, q->cls_wr, c->clk, &cr, min_earliest);
-    return find_ready1(ch, q, sorted, &cr);
+    return find_ready1(q, sorted, &cr);
 }
 
 /* pick() for a counted queue, with the same result: per bank, the requests fall in
@@ -895,7 +902,7 @@ static void chan_tick(dram_ctrl *c, int chi)
     const int shared = c->fast_scan && !c->exhaustive && mq != &ch->otherq;
     if (shared) { /* one class state for actq and the mode's queue */
         class_state(ch, q->cls_other | mq->cls_other, q->cls_rd | mq->cls_rd, q->cls_wr | mq->cls_wr, now, &cr, &lo);
-        i = q->n ? find_ready1(ch, q, 0, &cr) : -1;
+        i = q->n ? find_ready1(q, 0, &cr) : -1;
     } else {
         i = c->exhaustive ? pick(c, ch, q, 0, &lo) : pick_counted(c, ch, q, 0, &lo);
     }
@@ -907,7 +914,7 @@ static void chan_tick(dram_ctrl *c, int chi)
     if (i < 0) {
         q = mq;
         if (shared)
-            i = q->n ? find_ready1(ch, q, 1, &cr) : -1;
+            i = q->n ? find_ready1(q, 1, &cr) : -1;
         else
             i = c->exhaustive || q == &ch->otherq ? pick(c, ch, q, 1, &lo) : pick_counted(c, ch, q, 1, &lo);
         if (i >= 0) {

@@ -424,29 +424,22 @@ static inline int class_ready_has(const dreq *r, const class_ready *cr)
 }
 
 /* One command class of pick_counted1: banks `bits` need `cmd`; their earliest cycle
- * is max(channel/rank bound, bank next[cmd]). Folds the class minimum into *lo
- * (min over banks of the max = the max with the banks' minimum) and returns the
- * banks ready at now. */
-static inline uint64_t class_scan(const dchan *ch, uint64_t bits, int cmd, int64_t now, int64_t *lo)
+ * is max(channel/rank bound, bank next[cmd]). Returns the banks ready at now (none
+ * while the channel/rank bound is later, without looking at the banks). */
+static inline uint64_t class_scan(const dchan *ch, uint64_t bits, int cmd, int64_t now)
 {
-    if (!bits)
+    if (!bits || max64(ch->next[cmd], ch->ranks[0].next[cmd]) > now)
         return 0;
-    const int64_t t = max64(ch->next[cmd], ch->ranks[0].next[cmd]);
-    int64_t mn = INT64_MAX;
     uint64_t rdy = 0;
     for (; bits; bits &= bits - 1) {
         const int i = __builtin_ctzll(bits);
-        const int64_t x = ch->banks[i].next[cmd];
-        mn = x < mn ? x : mn;
-        rdy |= (uint64_t)(x <= now) << i;
+        rdy |= (uint64_t)(ch->banks[i].next[cmd] <= now) << i;
     }
-    const int64_t e = max64(t, mn);
-    if (e < *lo)
-        *lo = e;
-    return t <= now ? rdy : 0;
+    return rdy;
 }
 
-/* class_scan's bound alone: min(lo, earliest cycle of the banks `bits` needing cmd). */
+/* The bound of a class: min(lo, earliest cycle of the banks `bits` needing cmd)
+ * (min over banks of the max = the max with the banks' minimum). */
 static inline int64_t class_min(const dchan *ch, uint64_t bits, int cmd, int64_t lo)
 {
     if (!bits)
@@ -460,19 +453,28 @@ static inline int64_t class_min(const dchan *ch, uint64_t bits, int cmd, int64_t
     return e < lo ? e : lo;
 }
 
-/* The ready sets and earliest-cycle bound of a channel of one rank with at most 64
- * banks (LPDDR3: 8) for the request classes `other`, `rd`, `wr` (bank masks; the
+/* The ready sets of a channel of one rank with at most 64 banks (LPDDR3: 8) for
+ * the request classes `other`, `rd`, `wr` (bank masks; the
  * union of the queues about to be searched: a class's readiness depends only on
  * its bank and command, not on the queue): per class (ACT for closed banks with
  * non-hit entries, PRE for open ones, RD and WR row hits) the banks' minimum and
  * ready set, row hits over the cap excluded from the ready sets. */
 static inline void class_state(const dchan *ch, uint64_t other, uint64_t rd, uint64_t wr, int64_t now,
-                               class_ready *cr, int64_t *lo)
+                               class_ready *cr)
 {
-    cr->other = class_scan(ch, other & ~ch->open_mask, DRAM_ACT, now, lo) |
-                class_scan(ch, other & ch->open_mask, DRAM_PRE, now, lo);
-    cr->rd = class_scan(ch, rd, DRAM_RD, now, lo) & ~ch->capped_mask;
-    cr->wr = class_scan(ch, wr, DRAM_WR, now, lo) & ~ch->capped_mask;
+    cr->other = class_scan(ch, other & ~ch->open_mask, DRAM_ACT, now) | class_scan(ch, other & ch->open_mask, DRAM_PRE, now);
+    cr->rd = class_scan(ch, rd, DRAM_RD, now) & ~ch->capped_mask;
+    cr->wr = class_scan(ch, wr, DRAM_WR, now) & ~ch->capped_mask;
+}
+
+/* The earliest cycle any of the classes could issue (what a scan finding nothing
+ * leaves as the bound), folded into lo. */
+static inline int64_t class_bound(const dchan *ch, uint64_t other, uint64_t rd, uint64_t wr, int64_t lo)
+{
+    lo = class_min(ch, other & ~ch->open_mask, DRAM_ACT, lo);
+    lo = class_min(ch, other & ch->open_mask, DRAM_PRE, lo);
+    lo = class_min(ch, rd, DRAM_RD, lo);
+    return class_min(ch, wr, DRAM_WR, lo);
 }
 
 /* pick_counted's choice in q given the ready sets of class_state (which covered
@@ -505,7 +507,8 @@ static int find_ready1(const dqueue *q, int sorted, const class_ready *cr)
 static int pick_counted1(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, int64_t *min_earliest)
 {
     class_ready cr;
-    class_state(ch, q->cls_other, q->cls_rd, q->cls_wr, c->clk, &cr, min_earliest);
+    class_state(ch, q->cls_other, q->cls_rd, q->cls_wr, c->clk, &cr);
+    *min_earliest = class_bound(ch, q->cls_other, q->cls_rd, q->cls_wr, *min_earliest);
     return find_ready1(q, sorted, &cr);
 }
 
@@ -843,10 +846,7 @@ static void next_scan_bound(const dram_ctrl *c, dchan *ch)
         } else {
             lo = queue_bound(c, ch, q, lo);
         }
-        lo = class_min(ch, other & ~ch->open_mask, DRAM_ACT, lo);
-        lo = class_min(ch, other & ch->open_mask, DRAM_PRE, lo);
-        lo = class_min(ch, rd, DRAM_RD, lo);
-        lo = class_min(ch, wr, DRAM_WR, lo);
+        lo = class_bound(ch, other, rd, wr, lo);
     } else {
         lo = queue_bound(c, ch, q, queue_bound(c, ch, &ch->actq, lo));
     }
@@ -901,7 +901,7 @@ static void chan_tick(dram_ctrl *c, int chi)
     class_ready cr;
     const int shared = c->fast_scan && !c->exhaustive && mq != &ch->otherq;
     if (shared) { /* one class state for actq and the mode's queue */
-        class_state(ch, q->cls_other | mq->cls_other, q->cls_rd | mq->cls_rd, q->cls_wr | mq->cls_wr, now, &cr, &lo);
+        class_state(ch, q->cls_other | mq->cls_other, q->cls_rd | mq->cls_rd, q->cls_wr | mq->cls_wr, now, &cr);
         i = q->n ? find_ready1(q, 0, &cr) : -1;
     } else {
         i = c->exhaustive ? pick(c, ch, q, 0, &lo) : pick_counted(c, ch, q, 0, &lo);
@@ -923,6 +923,9 @@ static void chan_tick(dram_ctrl *c, int chi)
                 i = -1;
         }
         if (i < 0) { /* full scans of both queues: lo bounds the next issue */
+            if (shared) /* computed only now: unused when a command issues */
+                lo = class_bound(ch, ch->actq.cls_other | mq->cls_other, ch->actq.cls_rd | mq->cls_rd,
+                                 ch->actq.cls_wr | mq->cls_wr, lo);
             ch->sched_wake = lo;
             return;
         }
@@ -1027,10 +1030,7 @@ static int64_t chan_next_completion(const dram_ctrl *c, dchan *ch)
         const dqueue *a = &ch->actq, *r = &ch->readq, *w = &ch->writeq;
         if (c->fast_scan) {
             const uint64_t other = a->cls_other | r->cls_other | w->cls_other;
-            lo = class_min(ch, other & ~ch->open_mask, DRAM_ACT, lo);
-            lo = class_min(ch, other & ch->open_mask, DRAM_PRE, lo);
-            lo = class_min(ch, a->cls_rd | r->cls_rd | w->cls_rd, DRAM_RD, lo);
-            lo = class_min(ch, a->cls_wr | r->cls_wr | w->cls_wr, DRAM_WR, lo);
+            lo = class_bound(ch, other, a->cls_rd | r->cls_rd | w->cls_rd, a->cls_wr | r->cls_wr | w->cls_wr, lo);
         } else {
             lo = queue_bound(c, ch, w, queue_bound(c, ch, r, queue_bound(c, ch, a, lo)));
         }

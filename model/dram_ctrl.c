@@ -178,6 +178,7 @@ static void q_recount(dqueue *q, const dbank *banks, int bidx)
     dqcount *k = &q->bc[bidx];
     if (!k->n)
         return; /* no entries: no hits, class bits clear */
+    const int had_hits = k->hit[0] + k->hit[1];
     k->hit[0] = k->hit[1] = 0;
     if (banks[bidx].open_row >= 0) {
         const uint32_t row = (uint32_t)banks[bidx].open_row;
@@ -188,7 +189,7 @@ static void q_recount(dqueue *q, const dbank *banks, int bidx)
                 k->hit[r->type] = (uint16_t)(k->hit[r->type] + r->hit);
             }
         }
-    } else {
+    } else if (had_hits) { /* closed: only former hits have a flag to clear */
         for (int i = 0; i < q->n; i++)
             if (q->v[i].bidx == bidx)
                 q->v[i].hit = 0;
@@ -846,7 +847,16 @@ static void next_scan_bound(const dram_ctrl *c, dchan *ch)
         } else {
             lo = queue_bound(c, ch, q, lo);
         }
-        lo = class_bound(ch, other, rd, wr, lo);
+        /* class by class, stopping once one can issue at the next cycle (then the
+         * next tick scans anyway) */
+        const int64_t soon = c->clk + 1;
+        lo = class_min(ch, rd, DRAM_RD, lo);
+        if (lo > soon)
+            lo = class_min(ch, other & ~ch->open_mask, DRAM_ACT, lo);
+        if (lo > soon)
+            lo = class_min(ch, other & ch->open_mask, DRAM_PRE, lo);
+        if (lo > soon)
+            lo = class_min(ch, wr, DRAM_WR, lo);
     } else {
         lo = queue_bound(c, ch, q, queue_bound(c, ch, &ch->actq, lo));
     }

@@ -65,7 +65,7 @@ typedef struct dchan {
     int64_t hist[DRAM_NCMD][DRAM_MAX_WINDOW];
     dqueue readq, writeq, actq, otherq;
     dreq *pend;                /* ring of reads waiting for their data, FIFO */
-    int pend_head, pend_n, pend_cap;
+    int pend_head, pend_n, pend_cap; /* pend_cap: 0 or a power of two (index by mask) */
     drank *ranks;
     dbank *banks;              /* rank-major */
     int write_mode;
@@ -237,7 +237,7 @@ static void pend_push(dchan *ch, const dreq *r)
         ch->pend_cap = ncap;
         ch->pend_head = 0;
     }
-    ch->pend[(ch->pend_head + ch->pend_n++) % ch->pend_cap] = *r;
+    ch->pend[(ch->pend_head + ch->pend_n++) & (ch->pend_cap - 1)] = *r;
 }
 
 dram_ctrl *dram_ctrl_create(const dram_spec *spec, dram_done_fn done, void *user, char *err, size_t errlen)
@@ -804,8 +804,8 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
         ch->wr_live++;
     else
         ch->rd_live++;
-    /* The last scan found nothing issuable before sched_wake and nothing changed
-     * since but this entry: the bound stays valid with the entry's own earliest
+    /* The last scan (or the bound set after the last command) found nothing issuable
+     * before sched_wake and nothing changed since but this entry: the bound stays valid with the entry's own earliest
      * cycle folded in (as the next scan would compute it) when the next scan looks
      * at its queue; a queue it does not look at leaves it unchanged (a mode change
      * resets it). */
@@ -872,7 +872,7 @@ static void chan_tick(dram_ctrl *c, int chi)
     /* 1. one completed read */
     if (ch->pend_n && ch->pend[ch->pend_head].depart <= now) {
         dreq r = ch->pend[ch->pend_head];
-        ch->pend_head = (ch->pend_head + 1) % ch->pend_cap;
+        ch->pend_head = (ch->pend_head + 1) & (ch->pend_cap - 1);
         ch->pend_n--;
         c->pending--;
         int64_t lat = r.depart - r.arrive;

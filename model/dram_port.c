@@ -54,7 +54,7 @@ struct dram_port {
     uint64_t cur_base;           /* address of its first burst */
     /* finished responses waiting for room in the response FIFO (ring) */
     dram_port_resp *ready;
-    int ready_head, ready_n, ready_cap;
+    int ready_head, ready_n, ready_cap; /* ready_cap: 0 or a power of two (index by mask) */
     int input_done, drained;
     int64_t stall_since, blocked_since;   /* -1 when not stalled / blocked */
     uint64_t progress;           /* commands + completions since the last step */
@@ -103,7 +103,7 @@ static void ready_push(dram_port *p, const dram_port_resp *r)
         p->ready_cap = n;
         p->ready_head = 0;
     }
-    p->ready[(p->ready_head + p->ready_n++) % p->ready_cap] = *r;
+    p->ready[(p->ready_head + p->ready_n++) & (p->ready_cap - 1)] = *r;
 }
 
 /* Controller callback: one burst done (tag = slot). */
@@ -146,7 +146,7 @@ static void deliver(dram_port *p, int64_t now)
 {
     while (p->ready_n && ks_fifo_can_write(p->resp)) {
         KS_FIFO_WRITE(p->resp, &p->ready[p->ready_head]);
-        p->ready_head = (p->ready_head + 1) % p->ready_cap;
+        p->ready_head = (p->ready_head + 1) & (p->ready_cap - 1);
         p->ready_n--;
         p->progress++;
     }

@@ -37,6 +37,12 @@ int dram_addrmap_init(dram_addrmap *m, const dram_spec *spec, char *err, size_t 
         m->bits[i] = (uint8_t)width[f];
     }
     m->nfields = DRAM_NFIELD;
+    int at = m->offset_bits;
+    for (int i = 0; i < DRAM_NFIELD; i++) {
+        m->shift[m->field[i]] = (uint8_t)at;
+        m->mask[m->field[i]] = (1ull << m->bits[i]) - 1;
+        at += m->bits[i];
+    }
     return 0;
 bad:
     snprintf(err, errlen, "%s: [controller] mapping '%s' invalid: allowed a permutation of the fields Ro Ba Ra Co Ch "

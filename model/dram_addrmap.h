@@ -25,6 +25,8 @@ typedef struct dram_addrmap {
     int nfields;
     uint8_t field[DRAM_NFIELD];   /* from least significant upward */
     uint8_t bits[DRAM_NFIELD];
+    uint8_t shift[DRAM_NFIELD];   /* by field (enum dram_field): its lowest address bit */
+    uint64_t mask[DRAM_NFIELD];   /* by field: (1 << width) - 1 */
 } dram_addrmap;
 
 /* 0, or -1 with a message naming the mapping and the allowed fields. */
@@ -32,17 +34,12 @@ int dram_addrmap_init(dram_addrmap *m, const dram_spec *spec, char *err, size_t 
 
 static inline void dram_addrmap_decode(const dram_addrmap *m, uint64_t addr, dram_addr *out)
 {
-    uint32_t v[DRAM_NFIELD] = {0};
-    addr >>= m->offset_bits;
-    for (int i = 0; i < m->nfields; i++) {
-        v[m->field[i]] = (uint32_t)(addr & ((1ull << m->bits[i]) - 1));
-        addr >>= m->bits[i];
-    }
-    out->channel = v[DRAM_F_CH];
-    out->rank = v[DRAM_F_RA];
-    out->bank = v[DRAM_F_BA];
-    out->row = v[DRAM_F_RO];
-    out->column = v[DRAM_F_CO];
+    /* each field at its precomputed position (dram_addrmap_init), no loop */
+    out->channel = (uint32_t)((addr >> m->shift[DRAM_F_CH]) & m->mask[DRAM_F_CH]);
+    out->rank = (uint32_t)((addr >> m->shift[DRAM_F_RA]) & m->mask[DRAM_F_RA]);
+    out->bank = (uint32_t)((addr >> m->shift[DRAM_F_BA]) & m->mask[DRAM_F_BA]);
+    out->row = (uint32_t)((addr >> m->shift[DRAM_F_RO]) & m->mask[DRAM_F_RO]);
+    out->column = (uint32_t)((addr >> m->shift[DRAM_F_CO]) & m->mask[DRAM_F_CO]);
 }
 
 /* Inverse of decode (for tests and trace generators). */

@@ -18,6 +18,8 @@ typedef struct dreq {
     uint16_t bidx;         /* rank * banks + bank */
     uint8_t type;
     uint8_t first;         /* no command issued yet (row hit/miss/conflict not yet counted) */
+    uint8_t hit;           /* in a counted queue: targets its bank's open row (kept by q_push
+                              and q_recount, so the scans need not look at the bank) */
 } dreq;
 
 /* A request queue. Read, write and act queues also keep, per bank, how many
@@ -63,7 +65,7 @@ typedef struct dchan {
     int64_t hist[DRAM_NCMD][DRAM_MAX_WINDOW];
     dqueue readq, writeq, actq, otherq;
     dreq *pend;                /* ring of reads waiting for their data, FIFO */
-    int pend_head, pend_n, pend_cap;
+    int pend_head, pend_n, pend_cap; /* pend_cap: 0 or a power of two (index by mask) */
     drank *ranks;
     dbank *banks;              /* rank-major */
     int write_mode;
@@ -71,14 +73,19 @@ typedef struct dchan {
     uint64_t capped_mask;      /* banks 0..63 whose row hits exceed the cap */
     int64_t sched_wake;        /* no command can issue before this cycle unless the queues or
                                   bank states change (0 = unknown: run the scheduler) */
-    int scan_due;              /* a request was added since the last scan point: the next tick
-                                  is an event (dram_next_event) even when sched_wake, kept exact
-                                  by dram_add, lets it skip the scan; so the controller is ticked,
-                                  and a kernel port woken, in the same cycles as if every add
-                                  forced a rescan */
     int64_t refreshed;         /* cycle of the last refresh injection */
+    int rd_live, wr_live;      /* reads / writes in readq, writeq or actq (not yet issued) */
+    int64_t occ_upto;          /* queue_occupancy_sum covers the ticks up to this cycle: the
+                                  count is constant between changes, so it is added per change
+                                  (occ_flush) rather than per tick */
     dram_chan_stats st;
 } dchan;
+
+/* One row of a command's flattened list (scope 0 channel, 1 rank, 2 bank). */
+typedef struct issue_row {
+    uint8_t scope, to, window;
+    int32_t cycles;
+} issue_row;
 
 /* Constraint rows grouped by (scope, FROM). */
 typedef struct cons_row {
@@ -104,6 +111,11 @@ struct dram_ctrl {
     cons_row rows[DRAM_MAX_CONSTRAINTS];
     int row_start[DRAM_NSCOPE][DRAM_NCMD], row_count[DRAM_NSCOPE][DRAM_NCMD];
     int max_window[DRAM_NSCOPE][DRAM_NCMD];
+    /* per FROM command, its channel, rank and (bank commands) bank rows in one list,
+     * the scope as the target index (0 channel, 1 rank, 2 bank): issue() applies them
+     * in one loop (each row only raises a next[], so the order does not matter) */
+    issue_row irows[DRAM_NCMD][DRAM_MAX_CONSTRAINTS];
+    int n_irows[DRAM_NCMD];
 };
 
 static void *xcalloc(size_t n, size_t sz)
@@ -166,14 +178,21 @@ static void q_recount(dqueue *q, const dbank *banks, int bidx)
     dqcount *k = &q->bc[bidx];
     if (!k->n)
         return; /* no entries: no hits, class bits clear */
+    const int had_hits = k->hit[0] + k->hit[1];
     k->hit[0] = k->hit[1] = 0;
     if (banks[bidx].open_row >= 0) {
         const uint32_t row = (uint32_t)banks[bidx].open_row;
         for (int i = 0; i < q->n; i++) {
-            const dreq *r = &q->v[i];
-            if (r->bidx == bidx && r->row == row)
-                k->hit[r->type]++;
+            dreq *r = &q->v[i];
+            if (r->bidx == bidx) {
+                r->hit = r->row == row;
+                k->hit[r->type] = (uint16_t)(k->hit[r->type] + r->hit);
+            }
         }
+    } else if (had_hits) { /* closed: only former hits have a flag to clear */
+        for (int i = 0; i < q->n; i++)
+            if (q->v[i].bidx == bidx)
+                q->v[i].hit = 0;
     }
     q_class_bits(q, bidx);
 }
@@ -195,6 +214,7 @@ static void q_push(dqueue *q, const dbank *banks, const dreq *r)
 {
     q_count(q, banks, r, +1);
     q_push_raw(q, r);
+    q->v[q->n - 1].hit = banks[r->bidx].open_row >= 0 && (uint32_t)banks[r->bidx].open_row == r->row;
 }
 
 
@@ -217,7 +237,7 @@ static void pend_push(dchan *ch, const dreq *r)
         ch->pend_cap = ncap;
         ch->pend_head = 0;
     }
-    ch->pend[(ch->pend_head + ch->pend_n++) % ch->pend_cap] = *r;
+    ch->pend[(ch->pend_head + ch->pend_n++) & (ch->pend_cap - 1)] = *r;
 }
 
 dram_ctrl *dram_ctrl_create(const dram_spec *spec, dram_done_fn done, void *user, char *err, size_t errlen)
@@ -253,6 +273,14 @@ dram_ctrl *dram_ctrl_create(const dram_spec *spec, dram_done_fn done, void *user
             }
             c->row_count[s][f] = n - c->row_start[s][f];
         }
+    for (int f = 0; f < DRAM_NCMD; f++) {
+        const int nscope = dram_cmd_is_bank_scoped(f) ? 3 : 2;
+        for (int sc = 0; sc < nscope; sc++)
+            for (int i = 0; i < c->row_count[sc][f]; i++) {
+                const cons_row *r = &c->rows[c->row_start[sc][f] + i];
+                c->irows[f][c->n_irows[f]++] = (issue_row){(uint8_t)sc, r->to, r->window, r->cycles};
+            }
+    }
     c->ch = xcalloc((size_t)c->nch, sizeof *c->ch);
     for (int i = 0; i < c->nch; i++) {
         dchan *ch = &c->ch[i];
@@ -390,62 +418,82 @@ typedef struct class_ready {
     uint64_t other, rd, wr;
 } class_ready;
 
-static inline int class_ready_has(const dbank *b, const dreq *r, const class_ready *cr)
+static inline int class_ready_has(const dreq *r, const class_ready *cr)
 {
-    const uint64_t bit = 1ull << r->bidx;
-    if (b->open_row >= 0 && (uint32_t)b->open_row == r->row)
-        return (r->type == REQ_WRITE ? cr->wr : cr->rd) & bit ? 1 : 0;
-    return cr->other & bit ? 1 : 0;
+    const uint64_t set = r->hit ? (r->type == REQ_WRITE ? cr->wr : cr->rd) : cr->other;
+    return (int)((set >> r->bidx) & 1);
 }
 
 /* One command class of pick_counted1: banks `bits` need `cmd`; their earliest cycle
- * is max(channel/rank bound, bank next[cmd]). Folds the class minimum into *lo
- * (min over banks of the max = the max with the banks' minimum) and returns the
- * banks ready at now. */
-static inline uint64_t class_scan(const dchan *ch, uint64_t bits, int cmd, int64_t now, int64_t *lo)
+ * is max(channel/rank bound, bank next[cmd]). Returns the banks ready at now (none
+ * while the channel/rank bound is later, without looking at the banks). */
+static inline uint64_t class_scan(const dchan *ch, uint64_t bits, int cmd, int64_t now)
 {
-    if (!bits)
+    if (!bits || max64(ch->next[cmd], ch->ranks[0].next[cmd]) > now)
         return 0;
-    const int64_t t = max64(ch->next[cmd], ch->ranks[0].next[cmd]);
-    int64_t mn = INT64_MAX;
     uint64_t rdy = 0;
     for (; bits; bits &= bits - 1) {
         const int i = __builtin_ctzll(bits);
-        const int64_t x = ch->banks[i].next[cmd];
-        mn = x < mn ? x : mn;
-        rdy |= (uint64_t)(x <= now) << i;
+        rdy |= (uint64_t)(ch->banks[i].next[cmd] <= now) << i;
     }
-    const int64_t e = max64(t, mn);
-    if (e < *lo)
-        *lo = e;
-    return t <= now ? rdy : 0;
+    return rdy;
 }
 
-/* pick_counted for a channel of one rank with at most 64 banks (LPDDR3: 8), the
- * same result from bank bitmasks: per class (ACT for closed banks with non-hit
- * entries, PRE for open ones, RD and WR row hits) the banks' minimum and ready set. */
-static int pick_counted1(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, int64_t *min_earliest)
+/* The bound of a class: min(lo, earliest cycle of the banks `bits` needing cmd)
+ * (min over banks of the max = the max with the banks' minimum). */
+static inline int64_t class_min(const dchan *ch, uint64_t bits, int cmd, int64_t lo)
 {
-    const int64_t now = c->clk;
-    int64_t lo = *min_earliest;
-    class_ready cr;
-    cr.other = class_scan(ch, q->cls_other & ~ch->open_mask, DRAM_ACT, now, &lo) |
-               class_scan(ch, q->cls_other & ch->open_mask, DRAM_PRE, now, &lo);
-    cr.rd = class_scan(ch, q->cls_rd, DRAM_RD, now, &lo) & ~ch->capped_mask;
-    cr.wr = class_scan(ch, q->cls_wr, DRAM_WR, now, &lo) & ~ch->capped_mask;
-    *min_earliest = lo;
-    const int any = (cr.other | cr.rd | cr.wr) != 0;
+    if (!bits)
+        return lo;
+    int64_t mn = INT64_MAX;
+    for (; bits; bits &= bits - 1) {
+        const int64_t x = ch->banks[__builtin_ctzll(bits)].next[cmd];
+        mn = x < mn ? x : mn;
+    }
+    const int64_t e = max64(max64(ch->next[cmd], ch->ranks[0].next[cmd]), mn);
+    return e < lo ? e : lo;
+}
+
+/* The ready sets of a channel of one rank with at most 64 banks (LPDDR3: 8) for
+ * the request classes `other`, `rd`, `wr` (bank masks; the
+ * union of the queues about to be searched: a class's readiness depends only on
+ * its bank and command, not on the queue): per class (ACT for closed banks with
+ * non-hit entries, PRE for open ones, RD and WR row hits) the banks' minimum and
+ * ready set, row hits over the cap excluded from the ready sets. */
+static inline void class_state(const dchan *ch, uint64_t other, uint64_t rd, uint64_t wr, int64_t now,
+                               class_ready *cr)
+{
+    cr->other = class_scan(ch, other & ~ch->open_mask, DRAM_ACT, now) | class_scan(ch, other & ch->open_mask, DRAM_PRE, now);
+    cr->rd = class_scan(ch, rd, DRAM_RD, now) & ~ch->capped_mask;
+    cr->wr = class_scan(ch, wr, DRAM_WR, now) & ~ch->capped_mask;
+}
+
+/* The earliest cycle any of the classes could issue (what a scan finding nothing
+ * leaves as the bound), folded into lo. */
+static inline int64_t class_bound(const dchan *ch, uint64_t other, uint64_t rd, uint64_t wr, int64_t lo)
+{
+    lo = class_min(ch, other & ~ch->open_mask, DRAM_ACT, lo);
+    lo = class_min(ch, other & ch->open_mask, DRAM_PRE, lo);
+    lo = class_min(ch, rd, DRAM_RD, lo);
+    return class_min(ch, wr, DRAM_WR, lo);
+}
+
+/* pick_counted's choice in q given the ready sets of class_state (which covered
+ * q's classes): the first (sorted) or oldest ready entry, else the oldest. */
+static int find_ready1(const dqueue *q, int sorted, const class_ready *cr)
+{
+    const int any = ((cr->other & q->cls_other) | (cr->rd & q->cls_rd) | (cr->wr & q->cls_wr)) != 0;
     if (sorted) {
         if (any)
             for (int i = 0; i < q->n; i++)
-                if (class_ready_has(&ch->banks[q->v[i].bidx], &q->v[i], &cr))
+                if (class_ready_has(&q->v[i], cr))
                     return i;
         return 0;
     }
     int best = 0, best_ready = any ? -1 : 0; /* without ready entries, the oldest of all */
     for (int i = 0; i < q->n; i++) {
         const dreq *r = &q->v[i];
-        if (any && !class_ready_has(&ch->banks[r->bidx], r, &cr))
+        if (any && !class_ready_has(r, cr))
             continue;
         if (best_ready < 0 || r->arrive < q->v[best].arrive) {
             best = i;
@@ -453,6 +501,16 @@ static int pick_counted1(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, i
         }
     }
     return best;
+}
+
+/* pick_counted for a channel of one rank with at most 64 banks: class_state over
+ * q's own classes, then find_ready1. */
+static int pick_counted1(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, int64_t *min_earliest)
+{
+    class_ready cr;
+    class_state(ch, q->cls_other, q->cls_rd, q->cls_wr, c->clk, &cr);
+    *min_earliest = class_bound(ch, q->cls_other, q->cls_rd, q->cls_wr, *min_earliest);
+    return find_ready1(q, sorted, &cr);
 }
 
 /* pick() for a counted queue, with the same result: per bank, the requests fall in
@@ -533,6 +591,54 @@ static int pick_counted(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, in
     return best;
 }
 
+/* The lower bound a scan at the next tick would compute (lo of pick_counted/pick)
+ * over q, without looking for a ready entry: the minimum over q's classes (or, for
+ * an uncounted queue, entries) of the earliest cycle of their next command. */
+static int64_t queue_bound(const dram_ctrl *c, dchan *ch, const dqueue *q, int64_t lo)
+{
+    if (q->n == 0)
+        return lo;
+    if (!q->bc) {
+        for (int i = 0; i < q->n; i++) {
+            const int64_t e = earliest(c, ch, &q->v[i], first_cmd(c, ch, &q->v[i]));
+            lo = e < lo ? e : lo;
+        }
+        return lo;
+    }
+    int64_t t_act = 0, t_pre = 0, t_rd = 0, t_wr = 0;
+    int cur_rank = -1;
+    const int words = (c->nrank * c->nbank + 63) >> 6;
+    for (int w = 0; w < words; w++) {
+        for (uint64_t bits = q->used[w]; bits; bits &= bits - 1) {
+            const int i = (w << 6) + __builtin_ctzll(bits);
+            const int rk = c->nrank == 1 ? 0 : i / c->nbank;
+            if (rk != cur_rank) {
+                const int64_t *cn = ch->next, *rn = ch->ranks[rk].next;
+                t_act = max64(cn[DRAM_ACT], rn[DRAM_ACT]);
+                t_pre = max64(cn[DRAM_PRE], rn[DRAM_PRE]);
+                t_rd = max64(cn[DRAM_RD], rn[DRAM_RD]);
+                t_wr = max64(cn[DRAM_WR], rn[DRAM_WR]);
+                cur_rank = rk;
+            }
+            const dqcount k = q->bc[i];
+            const dbank *b = &ch->banks[i];
+            if (k.n > k.hit[REQ_READ] + k.hit[REQ_WRITE]) {
+                const int64_t e = b->open_row < 0 ? max64(t_act, b->next[DRAM_ACT]) : max64(t_pre, b->next[DRAM_PRE]);
+                lo = e < lo ? e : lo;
+            }
+            if (k.hit[REQ_READ]) {
+                const int64_t e = max64(t_rd, b->next[DRAM_RD]);
+                lo = e < lo ? e : lo;
+            }
+            if (k.hit[REQ_WRITE]) {
+                const int64_t e = max64(t_wr, b->next[DRAM_WR]);
+                lo = e < lo ? e : lo;
+            }
+        }
+    }
+    return lo;
+}
+
 /* ---- issuing ---- */
 
 static void apply_rows(const dram_ctrl *c, int scope, int cmd, int64_t *next, const int64_t (*hist)[DRAM_MAX_WINDOW],
@@ -597,11 +703,22 @@ static void issue(dram_ctrl *c, int chi, int cmd, int rank, int bank, uint32_t r
         hist_push(ch->hist, cmd, c->max_window[DRAM_SCOPE_CHANNEL][cmd], now);
     if (c->max_window[DRAM_SCOPE_RANK][cmd] > 1)
         hist_push(rk->hist, cmd, c->max_window[DRAM_SCOPE_RANK][cmd], now);
-    apply_rows(c, DRAM_SCOPE_CHANNEL, cmd, ch->next, (const int64_t(*)[DRAM_MAX_WINDOW])ch->hist, now);
-    apply_rows(c, DRAM_SCOPE_RANK, cmd, rk->next, (const int64_t(*)[DRAM_MAX_WINDOW])rk->hist, now);
     dbank *banks = &ch->banks[rank * c->nbank];
+    {
+        int64_t *const tgt[3] = {ch->next, rk->next, banks[bank < 0 ? 0 : bank].next};
+        const int64_t *const hst[2] = {ch->hist[cmd], rk->hist[cmd]};
+        const issue_row *row = c->irows[cmd];
+        for (int i = 0, n = c->n_irows[cmd]; i < n; i++) {
+            const int64_t from = row[i].window == 1 ? now : hst[row[i].scope][row[i].window - 1];
+            if (from == NEVER)
+                continue;
+            const int64_t t = from + row[i].cycles;
+            int64_t *nx = &tgt[row[i].scope][row[i].to];
+            if (t > *nx)
+                *nx = t;
+        }
+    }
     if (dram_cmd_is_bank_scoped(cmd)) {
-        apply_rows(c, DRAM_SCOPE_BANK, cmd, banks[bank].next, NULL, now);
         if (c->row_count[DRAM_SCOPE_SIBLING][cmd])
             for (int b = 0; b < c->nbank; b++)
                 if (b != bank)
@@ -639,6 +756,15 @@ static void issue(dram_ctrl *c, int chi, int cmd, int rank, int bank, uint32_t r
     }
 }
 
+/* Accounts ticks occ_upto+1 .. upto at the current readq + writeq + pend count (call
+ * before the count changes: at a tick before its own changes, at an add after the
+ * tick of its cycle). */
+static inline void occ_flush(dchan *ch, int64_t upto)
+{
+    ch->st.queue_occupancy_sum += (uint64_t)(upto - ch->occ_upto) * (uint64_t)(ch->readq.n + ch->writeq.n + ch->pend_n);
+    ch->occ_upto = upto;
+}
+
 /* ---- requests ---- */
 
 static dqueue *queue_for(dchan *ch, bool is_write) { return is_write ? &ch->writeq : &ch->readq; }
@@ -660,6 +786,7 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
     if (queue_for(ch, is_write)->n >= (is_write ? c->spec->write_queue : c->spec->read_queue))
         return false; /* = !dram_will_accept() */
     c->pending++;
+    occ_flush(ch, c->clk);
     dreq r = {.addr = addr, .tag = tag, .arrive = c->clk, .depart = 0, .row = a.row,
               .rank = (uint16_t)a.rank, .bank = (uint16_t)a.bank,
               .bidx = (uint16_t)(a.rank * (uint32_t)c->nbank + a.bank), .type = is_write ? REQ_WRITE : REQ_READ, .first = 1};
@@ -673,12 +800,15 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
             }
     dqueue *q = queue_for(ch, is_write);
     q_push(q, ch->banks, &r);
-    /* The last scan found nothing issuable before sched_wake and nothing changed
-     * since but this entry: the bound stays valid with the entry's own earliest
+    if (is_write)
+        ch->wr_live++;
+    else
+        ch->rd_live++;
+    /* The last scan (or the bound set after the last command) found nothing issuable
+     * before sched_wake and nothing changed since but this entry: the bound stays valid with the entry's own earliest
      * cycle folded in (as the next scan would compute it) when the next scan looks
      * at its queue; a queue it does not look at leaves it unchanged (a mode change
      * resets it). */
-    ch->scan_due = 1;
     if (ch->sched_wake && !ch->otherq.n && q == (ch->write_mode ? &ch->writeq : &ch->readq)) {
         const int64_t e = earliest(c, ch, &r, first_cmd(c, ch, &r));
         if (e < ch->sched_wake)
@@ -695,15 +825,54 @@ static int write_mode_next(const dram_ctrl *c, const dchan *ch)
     return !(ch->writeq.n < lo && ch->readq.n != 0);
 }
 
+/* After a command: the scan of the next tick finds nothing to issue when every
+ * candidate's earliest cycle is later than that tick; then it would only set
+ * sched_wake to that bound, which is set here instead (the queues it scans are
+ * those of the current mode; a mode change or refresh at that tick resets it,
+ * and adds fold themselves in as after a fruitless scan). */
+static void next_scan_bound(const dram_ctrl *c, dchan *ch)
+{
+    if (c->exhaustive)
+        return;
+    const dqueue *q = ch->otherq.n ? &ch->otherq : ch->write_mode ? &ch->writeq : &ch->readq;
+    int64_t lo = INT64_MAX;
+    if (c->fast_scan) {
+        /* the minimum over the union of both queues' classes per command */
+        const dqueue *a = &ch->actq;
+        uint64_t other = a->cls_other, rd = a->cls_rd, wr = a->cls_wr;
+        if (q->bc) {
+            other |= q->cls_other;
+            rd |= q->cls_rd;
+            wr |= q->cls_wr;
+        } else {
+            lo = queue_bound(c, ch, q, lo);
+        }
+        /* class by class, stopping once one can issue at the next cycle (then the
+         * next tick scans anyway) */
+        const int64_t soon = c->clk + 1;
+        lo = class_min(ch, rd, DRAM_RD, lo);
+        if (lo > soon)
+            lo = class_min(ch, other & ~ch->open_mask, DRAM_ACT, lo);
+        if (lo > soon)
+            lo = class_min(ch, other & ch->open_mask, DRAM_PRE, lo);
+        if (lo > soon)
+            lo = class_min(ch, wr, DRAM_WR, lo);
+    } else {
+        lo = queue_bound(c, ch, q, queue_bound(c, ch, &ch->actq, lo));
+    }
+    if (lo > c->clk + 1)
+        ch->sched_wake = lo;
+}
+
 static void chan_tick(dram_ctrl *c, int chi)
 {
     dchan *ch = &c->ch[chi];
     const int64_t now = c->clk;
-    ch->st.queue_occupancy_sum += (uint64_t)(ch->readq.n + ch->writeq.n + ch->pend_n);
+    occ_flush(ch, now);
     /* 1. one completed read */
     if (ch->pend_n && ch->pend[ch->pend_head].depart <= now) {
         dreq r = ch->pend[ch->pend_head];
-        ch->pend_head = (ch->pend_head + 1) % ch->pend_cap;
+        ch->pend_head = (ch->pend_head + 1) & (ch->pend_cap - 1);
         ch->pend_n--;
         c->pending--;
         int64_t lat = r.depart - r.arrive;
@@ -733,27 +902,40 @@ static void chan_tick(dram_ctrl *c, int chi)
     }
     /* 4. one command: actq first, then refresh, then the mode's queue. While nothing
      * changed since the last scan found nothing issuable, skip the scan. */
-    ch->scan_due = 0;
     if (now < ch->sched_wake && !c->exhaustive)
         return;
     int64_t lo = INT64_MAX;
     dqueue *q = &ch->actq;
-    int i = c->exhaustive ? pick(c, ch, q, 0, &lo) : pick_counted(c, ch, q, 0, &lo);
-    int cmd = -1;
+    dqueue *mq = ch->otherq.n ? &ch->otherq : ch->write_mode ? &ch->writeq : &ch->readq;
+    int i, cmd = -1;
+    class_ready cr;
+    const int shared = c->fast_scan && !c->exhaustive && mq != &ch->otherq;
+    if (shared) { /* one class state for actq and the mode's queue */
+        class_state(ch, q->cls_other | mq->cls_other, q->cls_rd | mq->cls_rd, q->cls_wr | mq->cls_wr, now, &cr);
+        i = q->n ? find_ready1(q, 0, &cr) : -1;
+    } else {
+        i = c->exhaustive ? pick(c, ch, q, 0, &lo) : pick_counted(c, ch, q, 0, &lo);
+    }
     if (i >= 0) {
         cmd = first_cmd(c, ch, &q->v[i]);
         if (earliest(c, ch, &q->v[i], cmd) > now)
             i = -1;
     }
     if (i < 0) {
-        q = ch->otherq.n ? &ch->otherq : ch->write_mode ? &ch->writeq : &ch->readq;
-        i = c->exhaustive || q == &ch->otherq ? pick(c, ch, q, 1, &lo) : pick_counted(c, ch, q, 1, &lo);
+        q = mq;
+        if (shared)
+            i = q->n ? find_ready1(q, 1, &cr) : -1;
+        else
+            i = c->exhaustive || q == &ch->otherq ? pick(c, ch, q, 1, &lo) : pick_counted(c, ch, q, 1, &lo);
         if (i >= 0) {
             cmd = first_cmd(c, ch, &q->v[i]);
             if (earliest(c, ch, &q->v[i], cmd) > now)
                 i = -1;
         }
         if (i < 0) { /* full scans of both queues: lo bounds the next issue */
+            if (shared) /* computed only now: unused when a command issues */
+                lo = class_bound(ch, ch->actq.cls_other | mq->cls_other, ch->actq.cls_rd | mq->cls_rd,
+                                 ch->actq.cls_wr | mq->cls_wr, lo);
             ch->sched_wake = lo;
             return;
         }
@@ -778,21 +960,25 @@ static void chan_tick(dram_ctrl *c, int chi)
             q_erase(q, ch->banks, i);
             q_push(&ch->actq, ch->banks, &moved);
         }
+        next_scan_bound(c, ch);
         return;
     }
     dreq done = *r;
     q_erase(q, ch->banks, i);
     if (done.type == REQ_READ) {
+        ch->rd_live--;
         done.depart = now + c->spec->read_latency;
         pend_push(ch, &done);
     } else if (done.type == REQ_REFRESH) {
         c->pending--;
     } else if (done.type == REQ_WRITE) {
+        ch->wr_live--;
         c->pending--;
         ch->st.writes_done++;
         if (c->done)
             c->done(c->done_user, done.addr, done.tag, true, now - done.arrive);
     }
+    next_scan_bound(c, ch);
 }
 
 void dram_tick(dram_ctrl *c)
@@ -811,7 +997,7 @@ int dram_pending(const dram_ctrl *c)
 static int64_t chan_next_event(const dram_ctrl *c, dchan *ch)
 {
     const int64_t soon = c->clk + 1;
-    if (ch->sched_wake == 0 || ch->scan_due || write_mode_next(c, ch) != ch->write_mode)
+    if (ch->sched_wake == 0 || write_mode_next(c, ch) != ch->write_mode)
         return soon;
     int64_t t = ch->refreshed + c->spec->refresh_interval;
     if (ch->pend_n && ch->pend[ch->pend_head].depart < t)
@@ -834,16 +1020,57 @@ int64_t dram_next_event(const dram_ctrl *c)
     return t;
 }
 
+/* A channel's bound for dram_next_completion. Until the next command, the state
+ * is frozen, so that command is some queued request's next command at or after its
+ * earliest cycle: every command issues at or after the minimum of those (lo), every
+ * read completes read_latency after its RD, a write at its WR. A refresh changes
+ * the banks without a request's command, so its injection and its commands bound
+ * too; a read issued already completes at the head of pend first (FIFO), before
+ * any read issued from now on (pend's head departs by now + read_latency). */
+static int64_t chan_next_completion(const dram_ctrl *c, dchan *ch)
+{
+    const int64_t soon = c->clk + 1;
+    int64_t t = ch->refreshed + c->spec->refresh_interval;
+    if (ch->pend_n && ch->pend[ch->pend_head].depart < t)
+        t = ch->pend[ch->pend_head].depart;
+    if (ch->otherq.n)
+        t = queue_bound(c, ch, &ch->otherq, t);
+    if (ch->wr_live || (ch->rd_live && !ch->pend_n)) {
+        int64_t lo = INT64_MAX;
+        const dqueue *a = &ch->actq, *r = &ch->readq, *w = &ch->writeq;
+        if (c->fast_scan) {
+            const uint64_t other = a->cls_other | r->cls_other | w->cls_other;
+            lo = class_bound(ch, other, a->cls_rd | r->cls_rd | w->cls_rd, a->cls_wr | r->cls_wr | w->cls_wr, lo);
+        } else {
+            lo = queue_bound(c, ch, w, queue_bound(c, ch, r, queue_bound(c, ch, a, lo)));
+        }
+        lo = lo < soon ? soon : lo;
+        if (ch->wr_live && lo < t)
+            t = lo;
+        if (ch->rd_live && !ch->pend_n && lo + c->spec->read_latency < t)
+            t = lo + c->spec->read_latency;
+    }
+    return t < soon ? soon : t;
+}
+
+int64_t dram_next_completion(const dram_ctrl *c)
+{
+    if (c->exhaustive)
+        return c->clk + 1;
+    int64_t t = INT64_MAX;
+    for (int i = 0; i < c->nch; i++) {
+        const int64_t e = chan_next_completion(c, &c->ch[i]);
+        t = e < t ? e : t;
+    }
+    return t;
+}
+
 void dram_set_exhaustive(dram_ctrl *c, bool on) { c->exhaustive = on; }
 
 /* Jumps k idle cycles, accounting what ticking through them would have. */
 static void skip_by(dram_ctrl *c, int64_t k)
 {
-    for (int i = 0; i < c->nch; i++) {
-        dchan *ch = &c->ch[i];
-        ch->st.queue_occupancy_sum += (uint64_t)k * (uint64_t)(ch->readq.n + ch->writeq.n + ch->pend_n);
-    }
-    c->clk += k;
+    c->clk += k; /* queue occupancy: accounted lazily (occ_flush) */
 }
 
 int64_t dram_skip(dram_ctrl *c)
@@ -860,16 +1087,30 @@ int64_t dram_skip(dram_ctrl *c)
 
 void dram_advance_to(dram_ctrl *c, int64_t cycle)
 {
+    if (c->exhaustive) {
+        while (c->clk < cycle)
+            dram_tick(c);
+        return;
+    }
+    /* Tick only at events and, there, only the channels with one: a channel's tick
+     * before its next event changes nothing (its queue occupancy is accounted
+     * lazily), and channels tick in order, so callbacks keep their order. */
+    int64_t ev[16];
+    const int nch = c->nch;
     while (c->clk < cycle) {
-        if (!c->exhaustive) {
-            const int64_t t = dram_next_event(c) - 1;
-            const int64_t stop = t < cycle ? t : cycle;
-            if (stop > c->clk)
-                skip_by(c, stop - c->clk);
-            if (c->clk == cycle)
-                break;
+        int64_t t = INT64_MAX;
+        for (int i = 0; i < nch; i++) {
+            ev[i] = chan_next_event(c, &c->ch[i]);
+            t = ev[i] < t ? ev[i] : t;
         }
-        dram_tick(c);
+        if (t > cycle) {
+            c->clk = cycle;
+            break;
+        }
+        c->clk = t;
+        for (int i = 0; i < nch; i++)
+            if (ev[i] == t)
+                chan_tick(c, i);
     }
 }
 
@@ -877,6 +1118,7 @@ void dram_chan_stats_get(const dram_ctrl *c, int channel, dram_chan_stats *out)
 {
     const dchan *ch = &c->ch[channel];
     *out = ch->st;
+    out->queue_occupancy_sum += (uint64_t)(c->clk - ch->occ_upto) * (uint64_t)(ch->readq.n + ch->writeq.n + ch->pend_n);
     for (int r = 0; r < c->nrank; r++)
         if (ch->ranks[r].nopen)
             out->open_cycles += (uint64_t)(c->clk - ch->ranks[r].open_since);

@@ -82,6 +82,11 @@ int64_t dram_clock(const dram_ctrl *c);
 int dram_pending(const dram_ctrl *c);
 /* Lower bound (> dram_clock) on the next cycle at which dram_tick could act. */
 int64_t dram_next_event(const dram_ctrl *c);
+/* Lower bound (> dram_clock) on the next cycle at which dram_tick could complete a
+ * request (done callback) while no request is added: a caller that only needs
+ * completions (kernel port) may sleep until then and catch up with
+ * dram_advance_to. */
+int64_t dram_next_completion(const dram_ctrl *c);
 /* Advances the clock over idle cycles to dram_next_event()-1; returns cycles skipped. */
 int64_t dram_skip(dram_ctrl *c);
 /* Advances the clock to `cycle` (no-op if already there or past): ticks where

@@ -54,7 +54,7 @@ struct dram_port {
     uint64_t cur_base;           /* address of its first burst */
     /* finished responses waiting for room in the response FIFO (ring) */
     dram_port_resp *ready;
-    int ready_head, ready_n, ready_cap;
+    int ready_head, ready_n, ready_cap; /* ready_cap: 0 or a power of two (index by mask) */
     int input_done, drained;
     int64_t stall_since, blocked_since;   /* -1 when not stalled / blocked */
     uint64_t progress;           /* commands + completions since the last step */
@@ -103,7 +103,7 @@ static void ready_push(dram_port *p, const dram_port_resp *r)
         p->ready_cap = n;
         p->ready_head = 0;
     }
-    p->ready[(p->ready_head + p->ready_n++) % p->ready_cap] = *r;
+    p->ready[(p->ready_head + p->ready_n++) & (p->ready_cap - 1)] = *r;
 }
 
 /* Controller callback: one burst done (tag = slot). */
@@ -146,7 +146,7 @@ static void deliver(dram_port *p, int64_t now)
 {
     while (p->ready_n && ks_fifo_can_write(p->resp)) {
         KS_FIFO_WRITE(p->resp, &p->ready[p->ready_head]);
-        p->ready_head = (p->ready_head + 1) % p->ready_cap;
+        p->ready_head = (p->ready_head + 1) & (p->ready_cap - 1);
         p->ready_n--;
         p->progress++;
     }
@@ -234,16 +234,14 @@ static int step(void *user, uint64_t cycle)
     uint64_t made = p->progress + (uint64_t)accepted;
     uint64_t next = UINT64_MAX;
     const int drain_due = p->input_done && !p->drained && p->cur < 0 && ks_fifo_occupancy(p->req) == 0;
-    /* The port wakes at the controller's next event even when only a completion
-     * matters to it: sleeping until the next possible completion would be exact
-     * for the memory but changes the cycles the port runs in, and with tiny
-     * response FIFOs the units' idle skipping is not exact (the stress_small
-     * cases of RTSIM_LPDDR3_SWEEP differ from --exhaustive), so results there
-     * would change (docs/accel.md, "Speed"). */
+    /* Otherwise the port matters only where a request completes, or, while the
+     * head request waits for a full controller queue, where a command may free an
+     * entry (the controller's next event); the controller catches up lazily in
+     * between (dram_advance_to), ticking exactly the cycles it would have. */
     if ((accepted && !p->ready_n && (p->cur >= 0 || ks_fifo_can_read(p->req))) || drain_due)
         next = cycle + 1;
     else if (dram_pending(p->c))
-        next = (uint64_t)dram_next_event(p->c);
+        next = (uint64_t)(p->stall_since >= 0 ? dram_next_event(p->c) : dram_next_completion(p->c));
     /* a request still in flight in the FIFO (latency): wake at its ready time
      * explicitly rather than rely on its written notification alone (an event keeps
      * one pending notification, event.h) */

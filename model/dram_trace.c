@@ -100,7 +100,10 @@ int dram_trace_run(dram_ctrl *c, FILE *f, const char *name, dram_trace_result *r
             dram_set_write_high_pct(c, 0);
         }
         dram_tick(c);
-        if ((stall || end) && dram_pending(c))
+        /* idle until the controller's next event, unless that tick freed room for the
+         * stalled request (a command can free a queue entry without the next cycle
+         * being an event) */
+        if ((end || (stall && !dram_will_accept(c, addr, is_write))) && dram_pending(c))
             dram_skip(c);
     }
     free(r.buf);

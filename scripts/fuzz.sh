@@ -3,7 +3,9 @@
 #   scripts/fuzz.sh AFL_BUILD_DIR SECONDS HARNESS...      (make fuzz runs it)
 # Each harness starts from testbench/fuzz/corpus/<harness>/ (plus the
 # project's own data files it reads: model/data/*.ini for the DRAM spec, the
-# machine presets for the machine harness) and runs SECONDS. Findings land in
+# machine presets for the machine harness, scenes/*.scene for the scene one)
+# and runs SECONDS; the INI harnesses get a dictionary of the seeds' sections
+# and keys. Findings land in
 # AFL_BUILD_DIR/findings/<harness>/default/{crashes,hangs}; the summary lists
 # their counts, and the script exits 1 when any harness crashed. A crash input
 # that is fixed belongs in corpus/<harness>/ so make test replays it.
@@ -28,6 +30,7 @@ for h in "$@"; do
   case $h in
     fuzz_dram_spec) cp model/data/*.ini "$seeds"/ ;;
     fuzz_machine) cp model/data/machines/*.ini "$seeds"/ ;;
+    fuzz_scene) cp scenes/*.scene "$seeds"/ ;;
   esac
   # INI harnesses: a dictionary of the sections and keys the seeds use, so
   # mutations combine real keys instead of guessing their spelling

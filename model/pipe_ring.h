@@ -54,7 +54,9 @@ static inline uint64_t pipe_ring_next_exit(const pipe_ring *p)
 {
     return p->count ? p->items[p->head].exit_cycle : UINT64_MAX;
 }
-static inline void pipe_ring_push(pipe_ring *p, uint32_t ray, uint32_t result, uint64_t cycle)
+/* vcd false: the caller knows no VCD variable is set (a unit without a VCD). */
+static inline __attribute__((always_inline)) void pipe_ring_push_v(pipe_ring *p, uint32_t ray, uint32_t result,
+                                                                   uint64_t cycle, bool vcd)
 {
     pipe_item *it = &p->items[(p->head + p->count) & p->mask];   /* no division: this runs every cycle */
     it->ray = ray;
@@ -62,17 +64,23 @@ static inline void pipe_ring_push(pipe_ring *p, uint32_t ray, uint32_t result, u
     it->exit_cycle = cycle + p->latency;
     if (++p->count > p->max_count)
         p->max_count = p->count;
-    if (p->v_occ)
+    if (vcd && p->v_occ)
         ks_vcd_set(p->v_occ, p->count);
 }
-static inline pipe_item pipe_ring_pop(pipe_ring *p)
+static inline void pipe_ring_push(pipe_ring *p, uint32_t ray, uint32_t result, uint64_t cycle)
+{
+    pipe_ring_push_v(p, ray, result, cycle, true);
+}
+static inline __attribute__((always_inline)) pipe_item pipe_ring_pop_v(pipe_ring *p, bool vcd)
 {
     pipe_item it = p->items[p->head];
     p->head = (p->head + 1) & p->mask;
     p->count--;
-    if (p->v_occ)
+    if (vcd && p->v_occ)
         ks_vcd_set(p->v_occ, p->count);
     return it;
 }
+
+static inline pipe_item pipe_ring_pop(pipe_ring *p) { return pipe_ring_pop_v(p, true); }
 
 #endif

@@ -93,12 +93,14 @@ static inline __attribute__((always_inline)) void pack_keys(const float *tnear, 
 {
 #if defined(__SSE2__)
     uint32_t u[8];
+#pragma GCC unroll 2
     for (int base = 0; base < n; base += 4) {
         /* t + 0.0f (so -0 ties +0), then negatives flip all bits, positives the sign */
         const __m128i b = _mm_castps_si128(_mm_add_ps(_mm_loadu_ps(tnear + base), _mm_setzero_ps()));
         const __m128i f = _mm_xor_si128(b, _mm_or_si128(_mm_srai_epi32(b, 31), _mm_set1_epi32((int)0x80000000u)));
         _mm_storeu_si128((__m128i *)(void *)(u + base), f);
     }
+#pragma GCC unroll 8
     for (int i = 0; i < n; i++) {
         const uint64_t k = ((uint64_t)u[i] << 8) | (unsigned)i;
         const uint64_t miss = ((uint64_t)1 << 40) | (unsigned)i;

@@ -111,6 +111,7 @@ void ist_register(ist_unit *u, const char *name, ks_stats *st, ks_vcd *vcd)
         ks_stat_counter_ref_in(st, name, "flops", "FLOP", "FLOPs of issued tests (division = 11, paper sec. 3.2)", &u->flops);
     }
     if (vcd) {
+        u->vcd = true;
         char nm[160];
         snprintf(nm, sizeof nm, "%s.issue_ray", name);
         u->v_issue_ray = ks_vcd_var_int(vcd, nm, 32, 0xFFFFFFFFu);
@@ -136,9 +137,9 @@ static inline uint64_t head_cycle(const ks_fifo *f, ks_clock *clk)
 }
 
 /* pipe items: result 0 = back to the TRV, 1 = loop */
-static int ist_step(void *user, uint64_t cycle)
+/* The step, with the VCD code compiled out when vcd is false. */
+static inline __attribute__((always_inline)) int ist_step_body(ist_unit *u, uint64_t cycle, const bool vcd)
 {
-    ist_unit *u = user;
     int progress = 0;
 
     const pipe_item *head = pipe_ring_ready(&u->pipe, cycle);
@@ -146,21 +147,21 @@ static int ist_step(void *user, uint64_t cycle)
         const accel_ray *r = &u->rays[head->ray];
         ks_fifo *out = head->result ? NULL : u->out[r->trv];
         if (out ? ks_fifo_can_write(out) : !pipe_ring_full(&u->loop)) {
-            pipe_item it = pipe_ring_pop(&u->pipe);
+            pipe_item it = pipe_ring_pop_v(&u->pipe, vcd);
             trv_msg m = {it.ray, 0};
             if (out) {
                 u->rays_in_unit--;
                 KS_FIFO_WRITE(out, &m);
             } else {
-                pipe_ring_push(&u->loop, it.ray, 0, cycle);
+                pipe_ring_push_v(&u->loop, it.ray, 0, cycle, vcd);
             }
-            if (u->v_exit_ray)
+            if (vcd && u->v_exit_ray)
                 ks_vcd_set(u->v_exit_ray, m.ray);
             progress++;
         } else {
             u->exit_stall_cycles++;
         }
-    } else if (u->v_exit_ray) {
+    } else if (vcd && u->v_exit_ray) {
         ks_vcd_set(u->v_exit_ray, 0xFFFFFFFFu);
     }
 
@@ -168,7 +169,7 @@ static int ist_step(void *user, uint64_t cycle)
         /* pick the next ray: looping rays first, then the TRVs round-robin */
         trv_msg m;
         if (pipe_ring_ready(&u->loop, cycle)) {
-            u->cur = pipe_ring_pop(&u->loop).ray;
+            u->cur = pipe_ring_pop_v(&u->loop, vcd).ray;
         } else {
             for (uint32_t k = 0; k < u->ntrv; k++) {
                 uint32_t i = (u->rr + k) % u->ntrv;
@@ -194,7 +195,7 @@ static int ist_step(void *user, uint64_t cycle)
             ist_result res = ist_core_test(&u->core, r, cycle);
             u->busy_cycles++;
             u->flops += u->p.flops_per_test;
-            if (u->v_issue_ray) {
+            if (vcd && u->v_issue_ray) {
                 ks_vcd_set(u->v_issue_ray, (uint64_t)u->cur);
                 ks_vcd_set(u->v_tri, tri);
                 pipe_trace_issue(&u->stage_rays, cycle, (uint32_t)u->cur);
@@ -202,18 +203,18 @@ static int ist_step(void *user, uint64_t cycle)
             if (res != IST_LOOP_MISS && res != IST_LOOP_BLOCKED && u->core.port_cycles > 1)
                 u->busy_until = cycle + u->core.port_cycles;   /* both lines in one bank */
             if (res != IST_MORE) {
-                pipe_ring_push(&u->pipe, (uint32_t)u->cur, res == IST_LAST ? 0u : 1u, cycle);
+                pipe_ring_push_v(&u->pipe, (uint32_t)u->cur, res == IST_LAST ? 0u : 1u, cycle, vcd);
                 u->cur = -1;
             }
             progress++;
         } else {
             u->issue_stall_cycles++;
         }
-    } else if (u->v_issue_ray) {
+    } else if (vcd && u->v_issue_ray) {
         ks_vcd_set(u->v_issue_ray, 0xFFFFFFFFu);
         ks_vcd_set(u->v_tri, 0xFFFFFFFFu);
     }
-    if (pipe_trace_on(&u->stage_rays))
+    if (vcd && pipe_trace_on(&u->stage_rays))
         pipe_trace_update(&u->stage_rays, cycle);
     if (!progress) {
         uint64_t next = pipe_ring_next_exit(&u->pipe), c;
@@ -222,12 +223,18 @@ static int ist_step(void *user, uint64_t cycle)
         for (uint32_t i = 0; i < u->ntrv; i++)
             if ((c = head_cycle(u->in[i], u->clk)) < next)
                 next = c;
-        if (pipe_trace_occupied(&u->stage_rays, cycle))
+        if (vcd && pipe_trace_occupied(&u->stage_rays, cycle))
             next = cycle + 1;   /* VCD on: the stage variables change every cycle */
         if (next != UINT64_MAX && next > cycle)
             ks_clocked_sleep_until_cycle(u->proc, next);
     }
     return progress;
+}
+
+static int ist_step(void *user, uint64_t cycle)
+{
+    ist_unit *u = user;
+    return u->vcd ? ist_step_body(u, cycle, true) : ist_step_body(u, cycle, false);
 }
 
 void ist_free(ist_unit *u)

@@ -43,6 +43,7 @@ typedef struct ist_unit {
     int64_t cur;                       /* ray holding the issue stage, -1 none */
     uint64_t busy_until, bank_stall_cycles;
     uint64_t busy_cycles, flops, rays_in_unit, exit_stall_cycles, issue_stall_cycles;
+    bool vcd;                          /* a VCD is open (else every VCD variable is NULL) */
     ks_vcd_var *v_issue_ray, *v_tri, *v_exit_ray;
     pipe_trace stage_rays;             /* the ray of the test in each stage */
 } ist_unit;

@@ -20,14 +20,19 @@ typedef struct pipe_item {
 typedef struct pipe_ring {
     pipe_item *items;
     uint32_t cap, head, count, max_count;
+    uint32_t mask;           /* storage is a power of two >= cap: index by mask, no wrap test */
     uint32_t latency;        /* cycles from issue to exit */
     ks_vcd_var *v_occ;       /* occupancy in the VCD (NULL: off) */
 } pipe_ring;
 
 static inline bool pipe_ring_init(pipe_ring *p, uint32_t cap, uint32_t latency)
 {
-    p->items = calloc(cap ? cap : 1, sizeof *p->items);
     p->cap = cap ? cap : 1;
+    uint32_t size = 1;
+    while (size < p->cap)
+        size <<= 1;
+    p->mask = size - 1;
+    p->items = calloc(size, sizeof *p->items);
     p->head = p->count = p->max_count = 0;
     p->latency = latency;
     p->v_occ = NULL;
@@ -49,29 +54,33 @@ static inline uint64_t pipe_ring_next_exit(const pipe_ring *p)
 {
     return p->count ? p->items[p->head].exit_cycle : UINT64_MAX;
 }
-static inline void pipe_ring_push(pipe_ring *p, uint32_t ray, uint32_t result, uint64_t cycle)
+/* vcd false: the caller knows no VCD variable is set (a unit without a VCD). */
+static inline __attribute__((always_inline)) void pipe_ring_push_v(pipe_ring *p, uint32_t ray, uint32_t result,
+                                                                   uint64_t cycle, bool vcd)
 {
-    uint32_t i = p->head + p->count;   /* no division: this runs every cycle */
-    if (i >= p->cap)
-        i -= p->cap;
-    pipe_item *it = &p->items[i];
+    pipe_item *it = &p->items[(p->head + p->count) & p->mask];   /* no division: this runs every cycle */
     it->ray = ray;
     it->result = result;
     it->exit_cycle = cycle + p->latency;
     if (++p->count > p->max_count)
         p->max_count = p->count;
-    if (p->v_occ)
+    if (vcd && p->v_occ)
         ks_vcd_set(p->v_occ, p->count);
 }
-static inline pipe_item pipe_ring_pop(pipe_ring *p)
+static inline void pipe_ring_push(pipe_ring *p, uint32_t ray, uint32_t result, uint64_t cycle)
+{
+    pipe_ring_push_v(p, ray, result, cycle, true);
+}
+static inline __attribute__((always_inline)) pipe_item pipe_ring_pop_v(pipe_ring *p, bool vcd)
 {
     pipe_item it = p->items[p->head];
-    if (++p->head == p->cap)
-        p->head = 0;
+    p->head = (p->head + 1) & p->mask;
     p->count--;
-    if (p->v_occ)
+    if (vcd && p->v_occ)
         ks_vcd_set(p->v_occ, p->count);
     return it;
 }
+
+static inline pipe_item pipe_ring_pop(pipe_ring *p) { return pipe_ring_pop_v(p, true); }
 
 #endif

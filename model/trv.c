@@ -155,6 +155,7 @@ void trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd)
         ks_stat_counter_ref_in(st, name, "flops", "FLOP", "slab test FLOPs (all N lanes per visit)", &t->flops);
     }
     if (vcd) {
+        t->vcd = true;
         char nm[160];
         snprintf(nm, sizeof nm, "%s.state", name);
         t->v_state = ks_vcd_var_enum(vcd, nm, trv_state_names, 4, TRV_ST_IDLE);
@@ -194,9 +195,9 @@ static inline uint64_t head_cycle(const ks_fifo *f, ks_clock *clk)
     return ks_clock_cycle_at_or_after(clk, ks_fifo_head_ready_time(f));
 }
 
-static int trv_step(void *user, uint64_t cycle)
+/* The step, with the VCD code compiled out when vcd is false. */
+static inline __attribute__((always_inline)) int trv_step_body(trv_unit *t, uint64_t cycle, const bool vcd)
 {
-    trv_unit *t = user;
     int progress = 0;
     int state = TRV_ST_IDLE;
 
@@ -211,22 +212,22 @@ static int trv_step(void *user, uint64_t cycle)
         default: break;   /* next node or next chance: the loop */
         }
         if (out ? ks_fifo_can_write(out) : !pipe_ring_full(&t->loop)) {
-            pipe_item it = pipe_ring_pop(&t->pipe);
+            pipe_item it = pipe_ring_pop_v(&t->pipe, vcd);
             trv_msg m = {it.ray, 0};
             if (out) {
                 t->rays_in_unit--;
                 KS_FIFO_WRITE(out, &m);
             } else {
-                pipe_ring_push(&t->loop, it.ray, 0, cycle);
+                pipe_ring_push_v(&t->loop, it.ray, 0, cycle, vcd);
             }
-            if (t->v_exit_ray)
+            if (vcd && t->v_exit_ray)
                 ks_vcd_set(t->v_exit_ray, m.ray);
             progress++;
         } else {
             t->exit_stall_cycles++;
             state = TRV_ST_WAIT_OUT;
         }
-    } else if (t->v_exit_ray) {
+    } else if (vcd && t->v_exit_ray) {
         ks_vcd_set(t->v_exit_ray, 0xFFFFFFFFu);
     }
 
@@ -242,7 +243,7 @@ static int trv_step(void *user, uint64_t cycle)
             t->issue_ist++;
             t->rays_in_unit++;
         } else if (pipe_ring_ready(&t->loop, cycle)) {
-            m.ray = pipe_ring_pop(&t->loop).ray;
+            m.ray = pipe_ring_pop_v(&t->loop, vcd).ray;
             t->issue_loop++;
         } else if (ks_fifo_can_read(t->in_new) && KS_FIFO_READ(t->in_new, &m)) {
             t->issue_new++;
@@ -259,23 +260,23 @@ static int trv_step(void *user, uint64_t cycle)
                 t->flops += (uint64_t)t->p.box_flops * (uint64_t)t->p.core.width;
             if (m.result == TRV_OVERFLOW)
                 t->failed = true;
-            pipe_ring_push(&t->pipe, m.ray, m.result, cycle);
+            pipe_ring_push_v(&t->pipe, m.ray, m.result, cycle, vcd);
             t->busy_cycles++;
             if (m.result != TRV_LOOP_MISS && m.result != TRV_LOOP_BLOCKED && t->core.fetch_cycles > stack_cycles)
                 stack_cycles = t->core.fetch_cycles;   /* a node spanning two lines of one L1 bank */
             if (stack_cycles > 1)
                 t->busy_until = cycle + stack_cycles;
-            if (t->v_issue_ray) {
+            if (vcd && t->v_issue_ray) {
                 ks_vcd_set(t->v_issue_ray, m.ray);
                 pipe_trace_issue(&t->stage_rays, cycle, m.ray);
             }
             state = TRV_ST_ISSUE;
             progress++;
-        } else if (t->v_issue_ray) {
+        } else if (vcd && t->v_issue_ray) {
             ks_vcd_set(t->v_issue_ray, 0xFFFFFFFFu);
         }
     }
-    if (t->v_state) {
+    if (vcd && t->v_state) {
         ks_vcd_set(t->v_state, (uint64_t)state);
         ks_vcd_set(t->v_rays, t->rays_in_unit);
         pipe_trace_update(&t->stage_rays, cycle);
@@ -291,10 +292,16 @@ static int trv_step(void *user, uint64_t cycle)
             next = c;
         if ((c = head_cycle(t->in_new, t->clk)) < next)
             next = c;
-        if (pipe_trace_occupied(&t->stage_rays, cycle))
+        if (vcd && pipe_trace_occupied(&t->stage_rays, cycle))
             next = cycle + 1;   /* VCD on: the stage variables change every cycle */
         if (next != UINT64_MAX && next > cycle)
             ks_clocked_sleep_until_cycle(t->proc, next);
     }
     return progress;
+}
+
+static int trv_step(void *user, uint64_t cycle)
+{
+    trv_unit *t = user;
+    return t->vcd ? trv_step_body(t, cycle, true) : trv_step_body(t, cycle, false);
 }

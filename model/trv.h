@@ -62,6 +62,7 @@ typedef struct trv_unit {
     uint64_t flops, rays_in_unit;
     bool failed;             /* a ray overflowed its stack */
     /* VCD (NULL when off) */
+    bool vcd;                /* a VCD is open (else every variable below is NULL) */
     ks_vcd_var *v_issue_ray, *v_exit_ray, *v_state, *v_rays;
     pipe_trace stage_rays;   /* the ray in each stage after issue */
 } trv_unit;

@@ -86,6 +86,32 @@ static trv_pass_result pop_next(trv_core *c, accel_ray *r, uint32_t *stack_cycle
     return res;
 }
 
+/* The sort keys of lanes 0..n-1 (sort_key_pack, bit for bit): with SSE2 the
+ * float-to-ordered-integer flip of four lanes at once, then the slot and hit
+ * folded in per lane. */
+static inline __attribute__((always_inline)) void pack_keys(const float *tnear, uint32_t hit_bits, int n, uint64_t *keys)
+{
+#if defined(__SSE2__)
+    uint32_t u[8];
+#pragma GCC unroll 2
+    for (int base = 0; base < n; base += 4) {
+        /* t + 0.0f (so -0 ties +0), then negatives flip all bits, positives the sign */
+        const __m128i b = _mm_castps_si128(_mm_add_ps(_mm_loadu_ps(tnear + base), _mm_setzero_ps()));
+        const __m128i f = _mm_xor_si128(b, _mm_or_si128(_mm_srai_epi32(b, 31), _mm_set1_epi32((int)0x80000000u)));
+        _mm_storeu_si128((__m128i *)(void *)(u + base), f);
+    }
+#pragma GCC unroll 8
+    for (int i = 0; i < n; i++) {
+        const uint64_t k = ((uint64_t)u[i] << 8) | (unsigned)i;
+        const uint64_t miss = ((uint64_t)1 << 40) | (unsigned)i;
+        keys[i] = (hit_bits >> i) & 1 ? k : miss;
+    }
+#else
+    for (int i = 0; i < n; i++)
+        keys[i] = sort_key_pack(tnear[i], (unsigned)i, (hit_bits >> i) & 1);
+#endif
+}
+
 trv_pass_result trv_core_pass(trv_core *c, accel_ray *r, uint64_t now, uint32_t *stack_cycles)
 {
     *stack_cycles = 0;
@@ -118,8 +144,12 @@ trv_pass_result trv_core_pass(trv_core *c, accel_ray *r, uint64_t now, uint32_t 
     uint32_t hit_bits;
     /* the used slots' slab tests against [tmin, closest], all lanes at once (trv_slab.h) */
     c->st.box_tests += (uint64_t)trv_slab_lanes(&r->prep, node, n, r->tmin, r->closest, tnear, &hit_bits);
-    for (int i = 0; i < n; i++)
-        keys[i] = sort_key_pack(tnear[i], (unsigned)i, (hit_bits >> i) & 1);
+    if (n == 4)   /* constant lane counts: the loops unrolled */
+        pack_keys(tnear, hit_bits, 4, keys);
+    else if (n == 2)
+        pack_keys(tnear, hit_bits, 2, keys);
+    else
+        pack_keys(tnear, hit_bits, n, keys);
     const int hits = trv_popcount8(hit_bits);
     c->st.box_lanes += (uint64_t)n;
     c->st.sort_passes++;

@@ -19,6 +19,7 @@
 #ifndef RTSIM_MODEL_TRV_SLAB_H
 #define RTSIM_MODEL_TRV_SLAB_H
 
+#include <stddef.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -29,12 +30,11 @@
 #endif
 
 /* Set bits of an 8-bit mask (no popcnt instruction on baseline x86-64; the
- * builtin would be a library call). */
+ * builtin would be a library call): two nibble look-ups. */
 static inline int trv_popcount8(uint32_t x)
 {
-    x = x - ((x >> 1) & 0x55u);
-    x = (x & 0x33u) + ((x >> 2) & 0x33u);
-    return (int)((x + (x >> 4)) & 0x0Fu);
+    static const uint8_t nibble_bits[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+    return nibble_bits[x & 15u] + nibble_bits[(x >> 4) & 15u];
 }
 
 #if defined(__SSE2__)
@@ -45,8 +45,14 @@ static inline __attribute__((always_inline)) int trv_slab_group(const rt_ray_pre
                                                                 int base, float tmin, float tmax, float *tnear,
                                                                 uint32_t *hit_bits)
 {
-    const __m128 ox = _mm_set1_ps(r->org[0]), oy = _mm_set1_ps(r->org[1]), oz = _mm_set1_ps(r->org[2]);
-    const __m128 ix = _mm_set1_ps(r->inv_dir[0]), iy = _mm_set1_ps(r->inv_dir[1]), iz = _mm_set1_ps(r->inv_dir[2]);
+    /* org and inv_dir are six consecutive floats: two loads, six shuffles */
+    _Static_assert(offsetof(rt_ray_prep, inv_dir) == 3 * sizeof(float) && sizeof(rt_ray_prep) == 6 * sizeof(float),
+                   "rt_ray_prep: org then inv_dir, six floats");
+    const float *pf = (const float *)(const void *)r;
+    const __m128 p0 = _mm_loadu_ps(pf);       /* org.x org.y org.z inv.x */
+    const __m128 p1 = _mm_loadu_ps(pf + 2);   /* org.z inv.x inv.y inv.z */
+    const __m128 ox = _mm_shuffle_ps(p0, p0, 0x00), oy = _mm_shuffle_ps(p0, p0, 0x55), oz = _mm_shuffle_ps(p0, p0, 0xAA);
+    const __m128 ix = _mm_shuffle_ps(p0, p0, 0xFF), iy = _mm_shuffle_ps(p1, p1, 0xAA), iz = _mm_shuffle_ps(p1, p1, 0xFF);
     /* slot floats: lo.x lo.y lo.z hi.x | hi.y hi.z ref meta */
     __m128 a[4], b[4];
     for (int k = 0; k < 4; k++) {

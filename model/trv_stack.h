@@ -15,6 +15,7 @@
 #define RTSIM_MODEL_TRV_STACK_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 typedef struct trv_stack_entry {
@@ -43,7 +44,22 @@ bool trv_stack_init(trv_stack *s, uint32_t slots, uint32_t depth, uint32_t banks
 void trv_stack_free(trv_stack *s);
 
 /* Cycles an access to entries [first, first + k) takes: max entries per bank. */
-uint32_t trv_stack_cycles(const trv_stack *s, uint32_t first, uint32_t k);
+static inline uint32_t trv_stack_cycles(const trv_stack *s, uint32_t first, uint32_t k)
+{
+    if (k == 0)
+        return 0;
+    /* k consecutive entries go round-robin over the banks whatever bank
+     * `first` is in, so the busiest bank holds ceil(k / banks) of them. */
+    (void)first;
+    return (k + s->banks - 1) / s->banks;
+}
+
+/* (inline: a TRV pass makes one or two stack operations) */
+static inline void trv_stack_count_op_(trv_stack *s, uint32_t cycles)
+{
+    s->st.ops++;
+    s->st.conflict_cycles += cycles - 1;
+}
 
 static inline uint32_t trv_stack_size(const trv_stack *s, uint32_t slot) { return s->sp[slot]; }
 static inline bool trv_stack_empty(const trv_stack *s, uint32_t slot) { return s->sp[slot] == 0; }
@@ -52,14 +68,52 @@ static inline void trv_stack_clear(trv_stack *s, uint32_t slot) { s->sp[slot] = 
 /* Pushes k entries in the order given (e[k-1] ends on top) as one operation.
  * Returns the cycles taken (>= 1; 0 when k == 0), or -1 on overflow (nothing
  * pushed). */
-int trv_stack_push(trv_stack *s, uint32_t slot, const trv_stack_entry *e, uint32_t k);
+static inline int trv_stack_push(trv_stack *s, uint32_t slot, const trv_stack_entry *e, uint32_t k)
+{
+    if (k == 0)
+        return 0;
+    uint32_t sp = s->sp[slot];
+    if (sp + k > s->depth) {
+        s->st.overflows++;
+        return -1;
+    }
+    trv_stack_entry *base = s->mem + (size_t)slot * s->depth;
+    for (uint32_t i = 0; i < k; i++)
+        base[sp + i] = e[i];
+    uint32_t cycles = trv_stack_cycles(s, sp, k);
+    s->sp[slot] = sp + k;
+    if (sp + k > s->st.max_depth)
+        s->st.max_depth = sp + k;
+    s->st.pushes += k;
+    trv_stack_count_op_(s, cycles);
+    return (int)cycles;
+}
 
 /* Reads the entry `below` positions under the top (0 = top) without popping;
  * false when the stack holds fewer entries. */
-bool trv_stack_peek(const trv_stack *s, uint32_t slot, uint32_t below, trv_stack_entry *out);
+static inline bool trv_stack_peek(const trv_stack *s, uint32_t slot, uint32_t below, trv_stack_entry *out)
+{
+    uint32_t sp = s->sp[slot];
+    if (below >= sp)
+        return false;
+    *out = s->mem[(size_t)slot * s->depth + sp - 1 - below];
+    return true;
+}
 
 /* Pops k entries (k <= size) as one operation (distance-stack culls pop
  * several); returns the cycles taken (0 when k == 0). */
-int trv_stack_pop(trv_stack *s, uint32_t slot, uint32_t k);
+static inline int trv_stack_pop(trv_stack *s, uint32_t slot, uint32_t k)
+{
+    if (k == 0)
+        return 0;
+    uint32_t sp = s->sp[slot];
+    if (k > sp)
+        k = sp;
+    uint32_t cycles = trv_stack_cycles(s, sp - k, k);
+    s->sp[slot] = sp - k;
+    s->st.pops += k;
+    trv_stack_count_op_(s, cycles);
+    return (int)cycles;
+}
 
 #endif

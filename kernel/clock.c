@@ -85,7 +85,47 @@ int ks__clock_any_awake(const ks_clock *c)
     return 0;
 }
 
-/* ---- scheduling of the clock's own tick ---- */
+/* ---- scheduling of the clock's own tick ----
+ * A scheduled tick is an entry in the sim's clock queue (sched_types.h), not
+ * in the general timed queue: with a few clocks, comparing their next edges
+ * is cheaper than a queue round trip. The order is the same as a timed-queue
+ * entry with key (idx << 2) | KS_K_CLOCK would have (below every other key):
+ * ticks due at one time fire in creation order, before other entries of that
+ * time. A tick superseded by an earlier one stays in the timed queue as a
+ * void entry, as it did when ticks were timed-queue entries, so that the
+ * scheduler still stops at its time (time, delta count, time limit and
+ * deadlock checks unchanged); it fires nothing unless it matches the clock's
+ * scheduled edge (ks__clock_tick_entry). */
+
+static inline int cq_before(const ks_clock *a, const ks_clock *b)
+{
+    return a->tick_t < b->tick_t || (a->tick_t == b->tick_t && a->idx < b->idx);
+}
+
+static void cq_insert(ks_sim *sim, ks_clock *c)
+{
+    KS_GROW(sim->cq, sim->n_cq, sim->cap_cq);
+    uint32_t i = sim->n_cq++;
+    while (i > 0 && cq_before(sim->cq[i - 1], c)) {
+        sim->cq[i] = sim->cq[i - 1];
+        i--;
+    }
+    sim->cq[i] = c;
+    c->in_cq = 1;
+}
+
+/* Drops c's clock-queue entry, leaving a void one in the timed queue. */
+static void cq_supersede(ks_sim *sim, ks_clock *c)
+{
+    uint32_t i = 0;
+    while (sim->cq[i] != c)
+        i++;
+    for (; i + 1 < sim->n_cq; i++)
+        sim->cq[i] = sim->cq[i + 1];
+    sim->n_cq--;
+    c->in_cq = 0;
+    ks__heap_push(sim, c->tick_t, ((uint64_t)c->idx << 2) | KS_K_CLOCK, c);
+}
 
 static void schedule_tick(ks_clock *c, uint64_t cycle)
 {
@@ -95,15 +135,34 @@ static void schedule_tick(ks_clock *c, uint64_t cycle)
     ks_time t = ks_clock_time_of(c, cycle);
     if (t < sim->now)
         t = sim->now; /* cannot happen for cycle >= next_min; defensive */
-    ks__heap_push(sim, t, ((uint64_t)c->idx << 2) | KS_K_CLOCK, c);
+    if (c->in_cq)
+        cq_supersede(sim, c);
+    c->tick_t = t;
+    cq_insert(sim, c);
+}
+
+/* A clock's entry firing at now: its stepper runs when the entry is for the
+ * scheduled edge. */
+static inline void clock_fire(ks_clock *c)
+{
+    if (!c->scheduled || ks_clock_time_of(c, c->sched_cycle) != c->sim->now)
+        return; /* superseded by an earlier reschedule */
+    ks__make_runnable(c->sim, c->stepper);
 }
 
 void ks__clock_tick_entry(ks_clock *c, uint64_t key)
 {
     (void)key; /* fixed per clock: an entry is current when its time is the scheduled edge's */
-    if (!c->scheduled || ks_clock_time_of(c, c->sched_cycle) != c->sim->now)
-        return; /* superseded by an earlier reschedule */
-    ks__make_runnable(c->sim, c->stepper);
+    clock_fire(c);
+}
+
+void ks__clock_fire_due(ks_sim *sim, ks_time t)
+{
+    while (sim->n_cq && sim->cq[sim->n_cq - 1]->tick_t == t) {
+        ks_clock *c = sim->cq[--sim->n_cq];
+        c->in_cq = 0;
+        clock_fire(c);
+    }
 }
 
 /* ---- timers ---- */
@@ -186,13 +245,13 @@ static void tick_later_in_this_edge(ks_clocked *p, uint64_t k)
     keep_woken_for_scheduled_tick(c);
     c->woken[p->idx >> 6] |= p->bit;
     c->scheduled = 1;
-    c->sched_cycle = k; /* a queued entry for the old cycle is now stale */
+    c->sched_cycle = k;
+    if (c->in_cq) /* its entry for the old cycle is now void */
+        cq_supersede(sim, c);
     ks_method *st = c->stepper;
     if (st->runnable)
         return;
-    size_t j = 0;
-    while (j < sim->n_run && sim->run[j] != sim->ticking->stepper)
-        j++;
+    size_t j = sim->run_i; /* the ticking clock's stepper */
     for (j++; j < sim->n_run; j++) {
         const ks_clock *o = sim->run[j]->clock;
         if (!o || o->idx > c->idx)
@@ -463,25 +522,76 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
     return next;
 }
 
-/* May the clock tick again at time t right away, without a round trip
- * through the scheduler? Only when the scheduler would do exactly that:
- * nothing else runnable, no delta or update pending, no timed entry due at
- * or before t, t within the run's limit, no stop request, and the deadlock
- * detector would not fire at t. */
-static inline int may_tick_again(const ks_clock *c, ks_sim *sim, ks_time t)
+/* Would the scheduler, after this activation, go straight on to the next
+ * time with nothing else to do? Only when the activation is the last
+ * runnable one, no delta or update is pending, no stop request, no new
+ * method to initialise. */
+static inline int nothing_else_now(const ks_sim *sim)
 {
-    if (sim->n_run != 1 || sim->n_delta || sim->n_upd || sim->stop ||
-        sim->n_uninit_from < sim->n_methods || t > sim->until || c->scheduled)
+    return sim->run_i + 1 == sim->n_run && !sim->n_delta && !sim->n_upd && !sim->stop &&
+           sim->n_uninit_from >= sim->n_methods;
+}
+
+/* ... and would the next time be t, reached without stopping: t within the
+ * run's limit, the deadlock detector silent at t, and no timed-queue entry
+ * at or before t (those fire after the clocks of their time). */
+static inline int next_time_clear(ks_sim *sim, ks_time t)
+{
+    if (t > sim->until)
         return 0;
     if (sim->dl_cycles && sim->n_clocked &&
         t - sim->last_progress > (ks_time)sim->dl_cycles * sim->clocks[0]->period)
         return 0;
-    return ks__queue_clear_until(sim, t);
+    return sim->n_heap == 0 || ks__queue_clear_until(sim, t);
 }
 
-/* The clock's method: ticks, and as long as the next edge is the next
- * thing to happen in the whole sim, advances time and ticks again here
- * (the same steps, deltas and counters as going through the scheduler). */
+/* May the clock tick again at time t right away, without a round trip
+ * through the scheduler? Only when the scheduler would do exactly that:
+ * nothing else to do now, no clock due before t (nor another one at t:
+ * they tick in creation order) and next_time_clear(t). */
+static inline int may_tick_again(const ks_clock *c, ks_sim *sim, ks_time t)
+{
+    if (!nothing_else_now(sim) || c->scheduled)
+        return 0;
+    if (sim->n_cq && sim->cq[sim->n_cq - 1]->tick_t <= t)
+        return 0;
+    return next_time_clear(sim, t);
+}
+
+/* After an activation that scheduled this clock's next tick (or none):
+ * when the scheduler would next advance time to the clock queue's first
+ * entry and fire only clock ticks there, do that here (time, delta count,
+ * the steppers made runnable in creation order) and return the clock whose
+ * stepper is now running in place of the finished one (its run count and
+ * the activation counted); the steppers of other clocks due at that time
+ * stay in the run list after it, for the scheduler's evaluation loop. NULL
+ * when the scheduler has to take over (nothing changed then, or time was
+ * advanced with nothing made runnable, where the scheduler goes on as it
+ * would have). */
+static ks_clock *advance_to_next_edge(ks_sim *sim)
+{
+    if (!sim->n_cq || !nothing_else_now(sim))
+        return NULL;
+    ks_time t = sim->cq[sim->n_cq - 1]->tick_t;
+    if (!next_time_clear(sim, t))
+        return NULL;
+    sim->now = t;
+    sim->n_run = sim->run_i; /* the finished activation's slot is reused */
+    ks__clock_fire_due(sim, t);
+    sim->deltas++;
+    if (sim->n_run == sim->run_i)
+        return NULL;
+    ks_method *m = sim->run[sim->run_i];
+    m->runnable = 0;
+    m->runs++;
+    sim->activations++;
+    return m->clock;
+}
+
+/* The clock's method: ticks, and as long as the next thing to happen in the
+ * whole sim is an edge of this or another clock, advances time and ticks
+ * that clock here (the same steps, deltas and counters as going through the
+ * scheduler). */
 static void clock_step(void *user)
 {
     ks_clock *c = user;
@@ -490,7 +600,7 @@ static void clock_step(void *user)
     c->scheduled = 0;
     for (;;) {
         uint64_t next = tick(c, sim, cycle);
-        if (next == UINT64_MAX || c->scheduled)
+        if (c->scheduled)
             return;
         if (next == cycle + 1 && may_tick_again(c, sim, c->next_time)) {
             sim->now = c->next_time;
@@ -500,8 +610,13 @@ static void clock_step(void *user)
             cycle = next;
             continue;
         }
-        schedule_tick(c, next);
-        return;
+        if (next != UINT64_MAX)
+            schedule_tick(c, next);
+        c = advance_to_next_edge(sim);
+        if (!c)
+            return;
+        cycle = c->sched_cycle;
+        c->scheduled = 0;
     }
 }
 

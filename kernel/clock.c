@@ -44,6 +44,7 @@ ks_clock *ks_clock_create(ks_sim *sim, const char *name, ks_time period)
     ks_event_init(&c->posedge, sim, evname);
     KS_GROW(sim->clocks, sim->n_clocks, sim->cap_clocks);
     sim->clocks[sim->n_clocks++] = c;
+    KS_GROW(sim->cq, sim->n_clocks - 1, sim->cap_cq); /* one clock-queue entry each */
     return c;
 }
 
@@ -102,9 +103,9 @@ static inline int cq_before(const ks_clock *a, const ks_clock *b)
     return a->tick_t < b->tick_t || (a->tick_t == b->tick_t && a->idx < b->idx);
 }
 
-static void cq_insert(ks_sim *sim, ks_clock *c)
+/* (capacity: one entry per clock, reserved by ks_clock_create) */
+static inline void cq_insert(ks_sim *sim, ks_clock *c)
 {
-    KS_GROW(sim->cq, sim->n_cq, sim->cap_cq);
     uint32_t i = sim->n_cq++;
     while (i > 0 && cq_before(sim->cq[i - 1], c)) {
         sim->cq[i] = sim->cq[i - 1];
@@ -127,7 +128,7 @@ static void cq_supersede(ks_sim *sim, ks_clock *c)
     ks__heap_push(sim, c->tick_t, ((uint64_t)c->idx << 2) | KS_K_CLOCK, c);
 }
 
-static void schedule_tick(ks_clock *c, uint64_t cycle)
+static inline void schedule_tick(ks_clock *c, uint64_t cycle)
 {
     ks_sim *sim = c->sim;
     c->scheduled = 1;
@@ -545,19 +546,6 @@ static inline int next_time_clear(ks_sim *sim, ks_time t)
     return sim->n_heap == 0 || ks__queue_clear_until(sim, t);
 }
 
-/* May the clock tick again at time t right away, without a round trip
- * through the scheduler? Only when the scheduler would do exactly that:
- * nothing else to do now, no clock due before t (nor another one at t:
- * they tick in creation order) and next_time_clear(t). */
-static inline int may_tick_again(const ks_clock *c, ks_sim *sim, ks_time t)
-{
-    if (!nothing_else_now(sim) || c->scheduled)
-        return 0;
-    if (sim->n_cq && sim->cq[sim->n_cq - 1]->tick_t <= t)
-        return 0;
-    return next_time_clear(sim, t);
-}
-
 /* After an activation that scheduled this clock's next tick (or none):
  * when the scheduler would next advance time to the clock queue's first
  * entry and fire only clock ticks there, do that here (time, delta count,
@@ -602,13 +590,40 @@ static void clock_step(void *user)
         uint64_t next = tick(c, sim, cycle);
         if (c->scheduled)
             return;
-        if (next == cycle + 1 && may_tick_again(c, sim, c->next_time)) {
-            sim->now = c->next_time;
-            sim->deltas++;
-            c->stepper->runs++;
-            sim->activations++;
-            cycle = next;
-            continue;
+        if (next != UINT64_MAX && nothing_else_now(sim)) {
+            ks_time tn = next == cycle + 1 ? c->next_time : ks_clock_time_of(c, next);
+            ks_clock *d = sim->n_cq ? sim->cq[sim->n_cq - 1] : NULL;
+            if (!d || tn < d->tick_t || (tn == d->tick_t && c->idx < d->idx)) {
+                /* this clock's edge is next: tick again here */
+                if (!next_time_clear(sim, tn)) {
+                    schedule_tick(c, next);
+                    return;
+                }
+                sim->now = tn;
+                sim->deltas++;
+                c->stepper->runs++;
+                sim->activations++;
+                cycle = next;
+                continue;
+            }
+            ks_time t = d->tick_t;
+            if (t != tn && (sim->n_cq < 2 || sim->cq[sim->n_cq - 2]->tick_t != t) && d->scheduled &&
+                ks_clock_time_of(d, d->sched_cycle) == t && next_time_clear(sim, t)) {
+                /* clock d's edge alone is next: its entry fires, its stepper
+                 * runs in place of this one */
+                sim->n_cq--;
+                d->in_cq = 0;
+                schedule_tick(c, next);
+                sim->now = t;
+                sim->deltas++;
+                sim->run[sim->run_i] = d->stepper;
+                d->stepper->runs++;
+                sim->activations++;
+                c = d;
+                cycle = d->sched_cycle;
+                d->scheduled = 0;
+                continue;
+            }
         }
         if (next != UINT64_MAX)
             schedule_tick(c, next);

@@ -304,7 +304,9 @@ void ks__clocked_wake_after_now(ks_clocked *p)
         ks__clocked_wake_in_tick(p);
         return;
     }
-    if (c->started && now == c->cur_time) {
+    if (c->started && now >= c->cur_time && now < c->next_time) {
+        /* at or after the last edge, before the next: no division, and now
+         * is an edge of this clock only when it is the last one */
         k = c->cur_cycle + 1;
     } else {
         k = (uint64_t)(now / c->period);
@@ -389,8 +391,14 @@ void ks_clocked_wake_on(ks_clocked *p, ks_event *ev)
 
 void ks_clocked_sleep_until_cycle(ks_clocked *p, uint64_t cycle)
 {
-    p->slept = 1;
-    p->sleep_until = cycle;
+    /* Effective from p's own step only (the step resets `slept` after
+     * reading it, so that steps need not clear it first); a call made
+     * anywhere else has no effect, as when each step began by clearing it. */
+    const ks_clock *c = p->clk;
+    if (c->in_tick && c->stepping == p->idx) {
+        p->slept = 1;
+        p->sleep_until = cycle;
+    }
 }
 
 void ks_clocked_set_describe(ks_clocked *p, ks_busy_fn busy, ks_describe_fn describe)
@@ -403,27 +411,31 @@ void ks_clock_set_exhaustive(ks_clock *c, int on) { c->exhaustive = (uint8_t)(on
 
 /* ---- the tick ---- */
 
-/* Steps one process; returns its progress. The awake bit of a process
- * being stepped is set; it is cleared when the process goes to sleep. */
+/* Steps process p (index i); returns its progress. The awake bit of a
+ * process being stepped is set; it is cleared when the process goes to
+ * sleep. `slept` is 0 outside p's step (ks_clocked_sleep_until_cycle). */
 static inline __attribute__((always_inline)) uint64_t step_one(ks_clock *c, ks_clocked *p,
-                                                                uint64_t cycle, int exhaustive)
+                                                                uint32_t i, uint64_t cycle,
+                                                                int exhaustive)
 {
-    p->slept = 0;
-    c->stepping = p->idx;
+    c->stepping = i;
     int r = p->step(p->user, cycle);
     p->steps++;
     if (r > 0) {
         p->progress += (uint64_t)r;
         if (!p->slept) {
             if (exhaustive)
-                c->awake[p->idx >> 6] |= p->bit;
+                c->awake[i >> 6] |= p->bit;
             return (uint64_t)r;
         }
     }
-    c->awake[p->idx >> 6] &= ~p->bit;
-    if (p->slept && p->sleep_until > cycle && p->last_timer != p->sleep_until) {
-        p->last_timer = p->sleep_until;
-        timer_push(c, p->sleep_until, p->idx);
+    c->awake[i >> 6] &= ~p->bit;
+    if (p->slept) {
+        p->slept = 0;
+        if (p->sleep_until > cycle && p->last_timer != p->sleep_until) {
+            p->last_timer = p->sleep_until;
+            timer_push(c, p->sleep_until, i);
+        }
     }
     return r > 0 ? (uint64_t)r : 0;
 }
@@ -485,7 +497,7 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
     uint64_t progress = 0, steps = 0;
     if (c->exhaustive) {
         for (uint32_t i = 0; i < c->n_procs; i++)
-            progress += step_one(c, c->procs[i], cycle, 1);
+            progress += step_one(c, c->procs[i], c->procs[i]->idx, cycle, 1);
         steps = c->n_procs;
     } else {
         ks_clocked **procs = c->procs;
@@ -493,7 +505,8 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
             uint64_t bits = c->awake[w];
             while (bits) {
                 uint32_t b = (uint32_t)__builtin_ctzll(bits);
-                progress += step_one(c, procs[(w << 6) | b], cycle, 0);
+                ks_clocked *p = procs[(w << 6) | b];
+                progress += step_one(c, p, p->idx, cycle, 0);
                 steps++;
                 bits &= bits - 1;
                 if (c->woke_later) { /* re-read: processes after b woken by it */

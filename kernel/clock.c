@@ -501,7 +501,19 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
         steps = c->n_procs;
     } else {
         ks_clocked **procs = c->procs;
-        for (uint32_t w = 0; w < nw; w++) {
+        if (nw == 1) { /* up to 64 processes: one word, the bit is the index */
+            uint64_t bits = c->awake[0];
+            while (bits) {
+                uint32_t b = (uint32_t)__builtin_ctzll(bits);
+                progress += step_one(c, procs[b], b, cycle, 0);
+                steps++;
+                bits &= bits - 1;
+                if (c->woke_later) {
+                    c->woke_later = 0;
+                    bits = c->awake[0] & (~(uint64_t)1 << b);
+                }
+            }
+        } else for (uint32_t w = 0; w < nw; w++) {
             uint64_t bits = c->awake[w];
             while (bits) {
                 uint32_t b = (uint32_t)__builtin_ctzll(bits);

@@ -308,6 +308,10 @@ void ks__clocked_wake_after_now(ks_clocked *p)
         /* at or after the last edge, before the next: no division, and now
          * is an edge of this clock only when it is the last one */
         k = c->cur_cycle + 1;
+        if (c->scheduled && k == c->sched_cycle) { /* wake_cycle's outcome, directly */
+            *p->woken_word |= p->bit;
+            return;
+        }
     } else {
         k = (uint64_t)(now / c->period);
         if (now % c->period == 0 && sim->ticking && sim->ticking->idx < c->idx) {
@@ -323,9 +327,13 @@ void ks__clocked_wake_at_time(ks_clocked *p, ks_time t)
 {
     ks_clock *c = p->clk;
     uint64_t k;
-    if (c->started && t == c->cur_time + c->period)
+    if (c->started && t == c->cur_time + c->period) {
         k = c->cur_cycle + 1;
-    else
+        if (c->scheduled && k == c->sched_cycle) { /* wake_cycle's outcome, directly */
+            *p->woken_word |= p->bit;
+            return;
+        }
+    } else
         k = ks_clock_cycle_at_or_after(c, t);
     wake_cycle(p, k);
 }

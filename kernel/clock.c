@@ -44,6 +44,7 @@ ks_clock *ks_clock_create(ks_sim *sim, const char *name, ks_time period)
     ks_event_init(&c->posedge, sim, evname);
     KS_GROW(sim->clocks, sim->n_clocks, sim->cap_clocks);
     sim->clocks[sim->n_clocks++] = c;
+    KS_GROW(sim->cq, sim->n_clocks - 1, sim->cap_cq); /* one clock-queue entry each */
     return c;
 }
 
@@ -85,9 +86,49 @@ int ks__clock_any_awake(const ks_clock *c)
     return 0;
 }
 
-/* ---- scheduling of the clock's own tick ---- */
+/* ---- scheduling of the clock's own tick ----
+ * A scheduled tick is an entry in the sim's clock queue (sched_types.h), not
+ * in the general timed queue: with a few clocks, comparing their next edges
+ * is cheaper than a queue round trip. The order is the same as a timed-queue
+ * entry with key (idx << 2) | KS_K_CLOCK would have (below every other key):
+ * ticks due at one time fire in creation order, before other entries of that
+ * time. A tick superseded by an earlier one stays in the timed queue as a
+ * void entry, as it did when ticks were timed-queue entries, so that the
+ * scheduler still stops at its time (time, delta count, time limit and
+ * deadlock checks unchanged); it fires nothing unless it matches the clock's
+ * scheduled edge (ks__clock_tick_entry). */
 
-static void schedule_tick(ks_clock *c, uint64_t cycle)
+static inline int cq_before(const ks_clock *a, const ks_clock *b)
+{
+    return a->tick_t < b->tick_t || (a->tick_t == b->tick_t && a->idx < b->idx);
+}
+
+/* (capacity: one entry per clock, reserved by ks_clock_create) */
+static inline void cq_insert(ks_sim *sim, ks_clock *c)
+{
+    uint32_t i = sim->n_cq++;
+    while (i > 0 && cq_before(sim->cq[i - 1], c)) {
+        sim->cq[i] = sim->cq[i - 1];
+        i--;
+    }
+    sim->cq[i] = c;
+    c->in_cq = 1;
+}
+
+/* Drops c's clock-queue entry, leaving a void one in the timed queue. */
+static void cq_supersede(ks_sim *sim, ks_clock *c)
+{
+    uint32_t i = 0;
+    while (sim->cq[i] != c)
+        i++;
+    for (; i + 1 < sim->n_cq; i++)
+        sim->cq[i] = sim->cq[i + 1];
+    sim->n_cq--;
+    c->in_cq = 0;
+    ks__heap_push(sim, c->tick_t, ((uint64_t)c->idx << 2) | KS_K_CLOCK, c);
+}
+
+static inline void schedule_tick(ks_clock *c, uint64_t cycle)
 {
     ks_sim *sim = c->sim;
     c->scheduled = 1;
@@ -95,15 +136,34 @@ static void schedule_tick(ks_clock *c, uint64_t cycle)
     ks_time t = ks_clock_time_of(c, cycle);
     if (t < sim->now)
         t = sim->now; /* cannot happen for cycle >= next_min; defensive */
-    ks__heap_push(sim, t, ((uint64_t)c->idx << 2) | KS_K_CLOCK, c);
+    if (c->in_cq)
+        cq_supersede(sim, c);
+    c->tick_t = t;
+    cq_insert(sim, c);
+}
+
+/* A clock's entry firing at now: its stepper runs when the entry is for the
+ * scheduled edge. */
+static inline void clock_fire(ks_clock *c)
+{
+    if (!c->scheduled || ks_clock_time_of(c, c->sched_cycle) != c->sim->now)
+        return; /* superseded by an earlier reschedule */
+    ks__make_runnable(c->sim, c->stepper);
 }
 
 void ks__clock_tick_entry(ks_clock *c, uint64_t key)
 {
     (void)key; /* fixed per clock: an entry is current when its time is the scheduled edge's */
-    if (!c->scheduled || ks_clock_time_of(c, c->sched_cycle) != c->sim->now)
-        return; /* superseded by an earlier reschedule */
-    ks__make_runnable(c->sim, c->stepper);
+    clock_fire(c);
+}
+
+void ks__clock_fire_due(ks_sim *sim, ks_time t)
+{
+    while (sim->n_cq && sim->cq[sim->n_cq - 1]->tick_t == t) {
+        ks_clock *c = sim->cq[--sim->n_cq];
+        c->in_cq = 0;
+        clock_fire(c);
+    }
 }
 
 /* ---- timers ---- */
@@ -186,13 +246,13 @@ static void tick_later_in_this_edge(ks_clocked *p, uint64_t k)
     keep_woken_for_scheduled_tick(c);
     c->woken[p->idx >> 6] |= p->bit;
     c->scheduled = 1;
-    c->sched_cycle = k; /* a queued entry for the old cycle is now stale */
+    c->sched_cycle = k;
+    if (c->in_cq) /* its entry for the old cycle is now void */
+        cq_supersede(sim, c);
     ks_method *st = c->stepper;
     if (st->runnable)
         return;
-    size_t j = 0;
-    while (j < sim->n_run && sim->run[j] != sim->ticking->stepper)
-        j++;
+    size_t j = sim->run_i; /* the ticking clock's stepper */
     for (j++; j < sim->n_run; j++) {
         const ks_clock *o = sim->run[j]->clock;
         if (!o || o->idx > c->idx)
@@ -244,8 +304,14 @@ void ks__clocked_wake_after_now(ks_clocked *p)
         ks__clocked_wake_in_tick(p);
         return;
     }
-    if (c->started && now == c->cur_time) {
+    if (c->started && now >= c->cur_time && now < c->next_time) {
+        /* at or after the last edge, before the next: no division, and now
+         * is an edge of this clock only when it is the last one */
         k = c->cur_cycle + 1;
+        if (c->scheduled && k == c->sched_cycle) { /* wake_cycle's outcome, directly */
+            *p->woken_word |= p->bit;
+            return;
+        }
     } else {
         k = (uint64_t)(now / c->period);
         if (now % c->period == 0 && sim->ticking && sim->ticking->idx < c->idx) {
@@ -261,9 +327,13 @@ void ks__clocked_wake_at_time(ks_clocked *p, ks_time t)
 {
     ks_clock *c = p->clk;
     uint64_t k;
-    if (c->started && t == c->cur_time + c->period)
+    if (c->started && t == c->cur_time + c->period) {
         k = c->cur_cycle + 1;
-    else
+        if (c->scheduled && k == c->sched_cycle) { /* wake_cycle's outcome, directly */
+            *p->woken_word |= p->bit;
+            return;
+        }
+    } else
         k = ks_clock_cycle_at_or_after(c, t);
     wake_cycle(p, k);
 }
@@ -329,8 +399,14 @@ void ks_clocked_wake_on(ks_clocked *p, ks_event *ev)
 
 void ks_clocked_sleep_until_cycle(ks_clocked *p, uint64_t cycle)
 {
-    p->slept = 1;
-    p->sleep_until = cycle;
+    /* Effective from p's own step only (the step resets `slept` after
+     * reading it, so that steps need not clear it first); a call made
+     * anywhere else has no effect, as when each step began by clearing it. */
+    const ks_clock *c = p->clk;
+    if (c->in_tick && c->stepping == p->idx) {
+        p->slept = 1;
+        p->sleep_until = cycle;
+    }
 }
 
 void ks_clocked_set_describe(ks_clocked *p, ks_busy_fn busy, ks_describe_fn describe)
@@ -343,27 +419,31 @@ void ks_clock_set_exhaustive(ks_clock *c, int on) { c->exhaustive = (uint8_t)(on
 
 /* ---- the tick ---- */
 
-/* Steps one process; returns its progress. The awake bit of a process
- * being stepped is set; it is cleared when the process goes to sleep. */
+/* Steps process p (index i); returns its progress. The awake bit of a
+ * process being stepped is set; it is cleared when the process goes to
+ * sleep. `slept` is 0 outside p's step (ks_clocked_sleep_until_cycle). */
 static inline __attribute__((always_inline)) uint64_t step_one(ks_clock *c, ks_clocked *p,
-                                                                uint64_t cycle, int exhaustive)
+                                                                uint32_t i, uint64_t cycle,
+                                                                int exhaustive)
 {
-    p->slept = 0;
-    c->stepping = p->idx;
+    c->stepping = i;
     int r = p->step(p->user, cycle);
     p->steps++;
     if (r > 0) {
         p->progress += (uint64_t)r;
         if (!p->slept) {
             if (exhaustive)
-                c->awake[p->idx >> 6] |= p->bit;
+                c->awake[i >> 6] |= p->bit;
             return (uint64_t)r;
         }
     }
-    c->awake[p->idx >> 6] &= ~p->bit;
-    if (p->slept && p->sleep_until > cycle && p->last_timer != p->sleep_until) {
-        p->last_timer = p->sleep_until;
-        timer_push(c, p->sleep_until, p->idx);
+    c->awake[i >> 6] &= ~p->bit;
+    if (p->slept) {
+        p->slept = 0;
+        if (p->sleep_until > cycle && p->last_timer != p->sleep_until) {
+            p->last_timer = p->sleep_until;
+            timer_push(c, p->sleep_until, i);
+        }
     }
     return r > 0 ? (uint64_t)r : 0;
 }
@@ -425,15 +505,28 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
     uint64_t progress = 0, steps = 0;
     if (c->exhaustive) {
         for (uint32_t i = 0; i < c->n_procs; i++)
-            progress += step_one(c, c->procs[i], cycle, 1);
+            progress += step_one(c, c->procs[i], c->procs[i]->idx, cycle, 1);
         steps = c->n_procs;
     } else {
         ks_clocked **procs = c->procs;
-        for (uint32_t w = 0; w < nw; w++) {
+        if (nw == 1) { /* up to 64 processes: one word, the bit is the index */
+            uint64_t bits = c->awake[0];
+            while (bits) {
+                uint32_t b = (uint32_t)__builtin_ctzll(bits);
+                progress += step_one(c, procs[b], b, cycle, 0);
+                steps++;
+                bits &= bits - 1;
+                if (c->woke_later) {
+                    c->woke_later = 0;
+                    bits = c->awake[0] & (~(uint64_t)1 << b);
+                }
+            }
+        } else for (uint32_t w = 0; w < nw; w++) {
             uint64_t bits = c->awake[w];
             while (bits) {
                 uint32_t b = (uint32_t)__builtin_ctzll(bits);
-                progress += step_one(c, procs[(w << 6) | b], cycle, 0);
+                ks_clocked *p = procs[(w << 6) | b];
+                progress += step_one(c, p, p->idx, cycle, 0);
                 steps++;
                 bits &= bits - 1;
                 if (c->woke_later) { /* re-read: processes after b woken by it */
@@ -463,25 +556,63 @@ static inline uint64_t tick(ks_clock *c, ks_sim *sim, uint64_t cycle)
     return next;
 }
 
-/* May the clock tick again at time t right away, without a round trip
- * through the scheduler? Only when the scheduler would do exactly that:
- * nothing else runnable, no delta or update pending, no timed entry due at
- * or before t, t within the run's limit, no stop request, and the deadlock
- * detector would not fire at t. */
-static inline int may_tick_again(const ks_clock *c, ks_sim *sim, ks_time t)
+/* Would the scheduler, after this activation, go straight on to the next
+ * time with nothing else to do? Only when the activation is the last
+ * runnable one, no delta or update is pending, no stop request, no new
+ * method to initialise. */
+static inline int nothing_else_now(const ks_sim *sim)
 {
-    if (sim->n_run != 1 || sim->n_delta || sim->n_upd || sim->stop ||
-        sim->n_uninit_from < sim->n_methods || t > sim->until || c->scheduled)
+    return sim->run_i + 1 == sim->n_run && !sim->n_delta && !sim->n_upd && !sim->stop &&
+           sim->n_uninit_from >= sim->n_methods;
+}
+
+/* ... and would the next time be t, reached without stopping: t within the
+ * run's limit, the deadlock detector silent at t, and no timed-queue entry
+ * at or before t (those fire after the clocks of their time). */
+static inline int next_time_clear(ks_sim *sim, ks_time t)
+{
+    if (t > sim->until)
         return 0;
     if (sim->dl_cycles && sim->n_clocked &&
         t - sim->last_progress > (ks_time)sim->dl_cycles * sim->clocks[0]->period)
         return 0;
-    return ks__queue_clear_until(sim, t);
+    return sim->n_heap == 0 || ks__queue_clear_until(sim, t);
 }
 
-/* The clock's method: ticks, and as long as the next edge is the next
- * thing to happen in the whole sim, advances time and ticks again here
- * (the same steps, deltas and counters as going through the scheduler). */
+/* After an activation that scheduled this clock's next tick (or none):
+ * when the scheduler would next advance time to the clock queue's first
+ * entry and fire only clock ticks there, do that here (time, delta count,
+ * the steppers made runnable in creation order) and return the clock whose
+ * stepper is now running in place of the finished one (its run count and
+ * the activation counted); the steppers of other clocks due at that time
+ * stay in the run list after it, for the scheduler's evaluation loop. NULL
+ * when the scheduler has to take over (nothing changed then, or time was
+ * advanced with nothing made runnable, where the scheduler goes on as it
+ * would have). */
+static ks_clock *advance_to_next_edge(ks_sim *sim)
+{
+    if (!sim->n_cq || !nothing_else_now(sim))
+        return NULL;
+    ks_time t = sim->cq[sim->n_cq - 1]->tick_t;
+    if (!next_time_clear(sim, t))
+        return NULL;
+    sim->now = t;
+    sim->n_run = sim->run_i; /* the finished activation's slot is reused */
+    ks__clock_fire_due(sim, t);
+    sim->deltas++;
+    if (sim->n_run == sim->run_i)
+        return NULL;
+    ks_method *m = sim->run[sim->run_i];
+    m->runnable = 0;
+    m->runs++;
+    sim->activations++;
+    return m->clock;
+}
+
+/* The clock's method: ticks, and as long as the next thing to happen in the
+ * whole sim is an edge of this or another clock, advances time and ticks
+ * that clock here (the same steps, deltas and counters as going through the
+ * scheduler). */
 static void clock_step(void *user)
 {
     ks_clock *c = user;
@@ -490,18 +621,50 @@ static void clock_step(void *user)
     c->scheduled = 0;
     for (;;) {
         uint64_t next = tick(c, sim, cycle);
-        if (next == UINT64_MAX || c->scheduled)
+        if (c->scheduled)
             return;
-        if (next == cycle + 1 && may_tick_again(c, sim, c->next_time)) {
-            sim->now = c->next_time;
-            sim->deltas++;
-            c->stepper->runs++;
-            sim->activations++;
-            cycle = next;
-            continue;
+        if (next != UINT64_MAX && nothing_else_now(sim)) {
+            ks_time tn = next == cycle + 1 ? c->next_time : ks_clock_time_of(c, next);
+            ks_clock *d = sim->n_cq ? sim->cq[sim->n_cq - 1] : NULL;
+            if (!d || tn < d->tick_t || (tn == d->tick_t && c->idx < d->idx)) {
+                /* this clock's edge is next: tick again here */
+                if (!next_time_clear(sim, tn)) {
+                    schedule_tick(c, next);
+                    return;
+                }
+                sim->now = tn;
+                sim->deltas++;
+                c->stepper->runs++;
+                sim->activations++;
+                cycle = next;
+                continue;
+            }
+            ks_time t = d->tick_t;
+            if (t != tn && (sim->n_cq < 2 || sim->cq[sim->n_cq - 2]->tick_t != t) && d->scheduled &&
+                ks_clock_time_of(d, d->sched_cycle) == t && next_time_clear(sim, t)) {
+                /* clock d's edge alone is next: its entry fires, its stepper
+                 * runs in place of this one */
+                sim->n_cq--;
+                d->in_cq = 0;
+                schedule_tick(c, next);
+                sim->now = t;
+                sim->deltas++;
+                sim->run[sim->run_i] = d->stepper;
+                d->stepper->runs++;
+                sim->activations++;
+                c = d;
+                cycle = d->sched_cycle;
+                d->scheduled = 0;
+                continue;
+            }
         }
-        schedule_tick(c, next);
-        return;
+        if (next != UINT64_MAX)
+            schedule_tick(c, next);
+        c = advance_to_next_edge(sim);
+        if (!c)
+            return;
+        cycle = c->sched_cycle;
+        c->scheduled = 0;
     }
 }
 

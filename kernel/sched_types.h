@@ -98,8 +98,10 @@ struct ks_clock {
     ks_time next_time;         /* edge time of cur_cycle + 1 */
     uint64_t next_min;         /* first cycle that may still tick */
     uint64_t sched_cycle;      /* next tick, valid when scheduled */
+    ks_time tick_t;            /* time of its entry in the sim's clock queue */
     uint32_t idx;              /* creation order: coincident edges tick in it */
     uint8_t scheduled, in_tick, exhaustive, started;
+    uint8_t in_cq;             /* has an entry in the clock queue (at tick_t) */
     uint64_t ticks;
     ks_event posedge;
 };
@@ -130,8 +132,15 @@ struct ks_sim {
     uint32_t q_words;          /* bit w: q_nonempty[w] != 0 */
     ks_time q_last;
     size_t n_heap;             /* entries in all buckets */
+    /* Clock queue: the clocks with a scheduled tick, sorted by (tick_t,
+     * idx) descending, so cq[n_cq - 1] ticks next. A clock has at most one
+     * entry; one superseded by an earlier tick leaves a void entry in the
+     * timed queue (clock.c). */
+    ks_clock **cq;
+    uint32_t n_cq, cap_cq;
     ks_method **run;
     size_t n_run, cap_run;
+    size_t run_i;              /* index in run of the method being evaluated */
     ks_dentry *delta, *delta2;
     size_t n_delta, cap_delta, cap_delta2;
     ks_signal **upd;

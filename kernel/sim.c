@@ -91,6 +91,7 @@ void ks_sim_destroy(ks_sim *sim)
         free(sim->q[b].e);
     free(sim->q);
     free(sim->q_now.e);
+    free(sim->cq);
     free(sim->run);
     free(sim->delta);
     free(sim->delta2);
@@ -565,8 +566,10 @@ ks_run_status ks_sim_run(ks_sim *sim, ks_time until)
         /* evaluate */
         if (sim->n_uninit_from < sim->n_methods)
             init_new_methods(sim);
-        for (size_t i = 0; i < sim->n_run; i++) {
-            ks_method *m = sim->run[i];
+        /* the index lives in the sim: a clock's stepper may go on ticking
+         * in place (clock.c), replacing its own entry */
+        for (sim->run_i = 0; sim->run_i < sim->n_run; sim->run_i++) {
+            ks_method *m = sim->run[sim->run_i];
             m->runnable = 0;
             m->runs++;
             sim->activations++;
@@ -608,7 +611,7 @@ ks_run_status ks_sim_run(ks_sim *sim, ks_time until)
             continue;
         }
         /* advance time */
-        if (sim->n_heap == 0) {
+        if (sim->n_heap == 0 && sim->n_cq == 0) {
             if (sim->dl_cycles && sim->n_clocked && work_pending(sim)) {
                 build_report(sim, "nothing is left to run but work is pending");
                 st = KS_RUN_DEADLOCK;
@@ -617,7 +620,14 @@ ks_run_status ks_sim_run(ks_sim *sim, ks_time until)
             }
             break;
         }
-        ks_time t = q_min(sim)->t;
+        /* the earliest of the timed queue and the clock queue; clock ticks
+         * fire first at equal times (their keys sort below all others) */
+        ks_time t = sim->n_heap ? q_min(sim)->t : KS_TIME_MAX;
+        int clocks_due = 0;
+        if (sim->n_cq && sim->cq[sim->n_cq - 1]->tick_t <= t) {
+            t = sim->cq[sim->n_cq - 1]->tick_t;
+            clocks_due = 1;
+        }
         if (t > until) {
             sim->now = until;
             st = KS_RUN_TIME_LIMIT;
@@ -636,11 +646,13 @@ ks_run_status ks_sim_run(ks_sim *sim, ks_time until)
             sim->last_progress = t;
         }
         sim->now = t;
-        do {
+        if (clocks_due)
+            ks__clock_fire_due(sim, t);
+        while (sim->n_heap && q_min(sim)->t == t) {
             ks_qentry e = *q_min(sim);
             q_pop(sim);
             fire_entry(e.obj, e.key);
-        } while (sim->n_heap && q_min(sim)->t == t);
+        }
         sim->deltas++;
     }
     sim->running = 0;

@@ -55,6 +55,8 @@ ks_method *ks__method_new(ks_sim *sim, const char *name, ks_method_fn fn, void *
 void ks__method_free(ks_method *m);
 /* Clock side. */
 void ks__clock_tick_entry(ks_clock *clk, uint64_t key);
+/* Fires the clock-queue entries at time t (now), in clock creation order. */
+void ks__clock_fire_due(ks_sim *sim, ks_time t);
 void ks__clock_free(ks_clock *clk);
 void ks__clock_start(ks_clock *clk);
 int ks__clock_any_awake(const ks_clock *clk);

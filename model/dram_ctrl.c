@@ -513,6 +513,20 @@ static int pick_counted1(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, i
     return find_ready1(q, sorted, &cr);
 }
 
+/* The channel and rank bounds of the four bank commands for rank rk: a bank
+ * command may issue at the max of these and the bank's own next[]. */
+typedef struct rank_bounds {
+    int64_t act, pre, rd, wr;
+} rank_bounds;
+
+static inline rank_bounds rank_bounds_of(const dchan *ch, int rk)
+{
+    const int64_t *cn = ch->next, *rn = ch->ranks[rk].next;
+    rank_bounds t = {max64(cn[DRAM_ACT], rn[DRAM_ACT]), max64(cn[DRAM_PRE], rn[DRAM_PRE]),
+                     max64(cn[DRAM_RD], rn[DRAM_RD]), max64(cn[DRAM_WR], rn[DRAM_WR])};
+    return t;
+}
+
 /* pick() for a counted queue, with the same result: per bank, the requests fall in
  * three classes (row hits by reads, by writes, and the rest: ACT if the bank is
  * closed, PRE if another row is open) that share their next command and thus their
@@ -530,8 +544,7 @@ static int pick_counted(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, in
     /* mask[] is written for every bank with entries: the only ones read below */
     uint8_t mask[MAX_BANK_INDEX];
     int any = 0;
-    /* channel and rank bounds of the four bank commands, per rank */
-    int64_t t_act = 0, t_pre = 0, t_rd = 0, t_wr = 0;
+    rank_bounds t = {0};
     int cur_rank = -1;
     const int words = (c->nrank * c->nbank + 63) >> 6;
     for (int w = 0; w < words; w++) {
@@ -539,11 +552,7 @@ static int pick_counted(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, in
             const int i = (w << 6) + __builtin_ctzll(bits);
             const int rk = c->nrank == 1 ? 0 : i / c->nbank;
             if (rk != cur_rank) {
-                const int64_t *cn = ch->next, *rn = ch->ranks[rk].next;
-                t_act = max64(cn[DRAM_ACT], rn[DRAM_ACT]);
-                t_pre = max64(cn[DRAM_PRE], rn[DRAM_PRE]);
-                t_rd = max64(cn[DRAM_RD], rn[DRAM_RD]);
-                t_wr = max64(cn[DRAM_WR], rn[DRAM_WR]);
+                t = rank_bounds_of(ch, rk);
                 cur_rank = rk;
             }
             const dqcount k = q->bc[i];
@@ -551,17 +560,17 @@ static int pick_counted(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, in
             const int hr = k.hit[REQ_READ], hw = k.hit[REQ_WRITE];
             int m = 0;
             if (k.n > hr + hw) {
-                const int64_t e = b->open_row < 0 ? max64(t_act, b->next[DRAM_ACT]) : max64(t_pre, b->next[DRAM_PRE]);
+                const int64_t e = b->open_row < 0 ? max64(t.act, b->next[DRAM_ACT]) : max64(t.pre, b->next[DRAM_PRE]);
                 lo = e < lo ? e : lo;
                 m |= e <= now ? READY_OTHER : 0;
             }
             if (hr) {
-                const int64_t e = max64(t_rd, b->next[DRAM_RD]);
+                const int64_t e = max64(t.rd, b->next[DRAM_RD]);
                 lo = e < lo ? e : lo;
                 m |= e <= now && b->hits <= cap ? READY_HIT_RD : 0;
             }
             if (hw) {
-                const int64_t e = max64(t_wr, b->next[DRAM_WR]);
+                const int64_t e = max64(t.wr, b->next[DRAM_WR]);
                 lo = e < lo ? e : lo;
                 m |= e <= now && b->hits <= cap ? READY_HIT_WR : 0;
             }
@@ -605,7 +614,7 @@ static int64_t queue_bound(const dram_ctrl *c, dchan *ch, const dqueue *q, int64
         }
         return lo;
     }
-    int64_t t_act = 0, t_pre = 0, t_rd = 0, t_wr = 0;
+    rank_bounds t = {0};
     int cur_rank = -1;
     const int words = (c->nrank * c->nbank + 63) >> 6;
     for (int w = 0; w < words; w++) {
@@ -613,25 +622,21 @@ static int64_t queue_bound(const dram_ctrl *c, dchan *ch, const dqueue *q, int64
             const int i = (w << 6) + __builtin_ctzll(bits);
             const int rk = c->nrank == 1 ? 0 : i / c->nbank;
             if (rk != cur_rank) {
-                const int64_t *cn = ch->next, *rn = ch->ranks[rk].next;
-                t_act = max64(cn[DRAM_ACT], rn[DRAM_ACT]);
-                t_pre = max64(cn[DRAM_PRE], rn[DRAM_PRE]);
-                t_rd = max64(cn[DRAM_RD], rn[DRAM_RD]);
-                t_wr = max64(cn[DRAM_WR], rn[DRAM_WR]);
+                t = rank_bounds_of(ch, rk);
                 cur_rank = rk;
             }
             const dqcount k = q->bc[i];
             const dbank *b = &ch->banks[i];
             if (k.n > k.hit[REQ_READ] + k.hit[REQ_WRITE]) {
-                const int64_t e = b->open_row < 0 ? max64(t_act, b->next[DRAM_ACT]) : max64(t_pre, b->next[DRAM_PRE]);
+                const int64_t e = b->open_row < 0 ? max64(t.act, b->next[DRAM_ACT]) : max64(t.pre, b->next[DRAM_PRE]);
                 lo = e < lo ? e : lo;
             }
             if (k.hit[REQ_READ]) {
-                const int64_t e = max64(t_rd, b->next[DRAM_RD]);
+                const int64_t e = max64(t.rd, b->next[DRAM_RD]);
                 lo = e < lo ? e : lo;
             }
             if (k.hit[REQ_WRITE]) {
-                const int64_t e = max64(t_wr, b->next[DRAM_WR]);
+                const int64_t e = max64(t.wr, b->next[DRAM_WR]);
                 lo = e < lo ? e : lo;
             }
         }

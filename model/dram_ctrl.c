@@ -527,6 +527,27 @@ static inline rank_bounds rank_bounds_of(const dchan *ch, int rk)
     return t;
 }
 
+/* Earliest cycles of bank b's three request classes in a queue with counters
+ * k (the rest: ACT if closed, PRE if another row is open; read row hits; write
+ * row hits); INT64_MAX for a class without entries. */
+typedef struct class_times {
+    int64_t other, rd, wr;
+} class_times;
+
+static inline class_times bank_class_times(const dbank *b, dqcount k, const rank_bounds *t)
+{
+    class_times e = {INT64_MAX, INT64_MAX, INT64_MAX};
+    if (k.n > k.hit[REQ_READ] + k.hit[REQ_WRITE])
+        e.other = b->open_row < 0 ? max64(t->act, b->next[DRAM_ACT]) : max64(t->pre, b->next[DRAM_PRE]);
+    if (k.hit[REQ_READ])
+        e.rd = max64(t->rd, b->next[DRAM_RD]);
+    if (k.hit[REQ_WRITE])
+        e.wr = max64(t->wr, b->next[DRAM_WR]);
+    return e;
+}
+
+static inline int64_t min64(int64_t a, int64_t b) { return a < b ? a : b; }
+
 /* pick() for a counted queue, with the same result: per bank, the requests fall in
  * three classes (row hits by reads, by writes, and the rest: ACT if the bank is
  * closed, PRE if another row is open) that share their next command and thus their
@@ -555,25 +576,12 @@ static int pick_counted(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, in
                 t = rank_bounds_of(ch, rk);
                 cur_rank = rk;
             }
-            const dqcount k = q->bc[i];
             const dbank *b = &ch->banks[i];
-            const int hr = k.hit[REQ_READ], hw = k.hit[REQ_WRITE];
-            int m = 0;
-            if (k.n > hr + hw) {
-                const int64_t e = b->open_row < 0 ? max64(t.act, b->next[DRAM_ACT]) : max64(t.pre, b->next[DRAM_PRE]);
-                lo = e < lo ? e : lo;
-                m |= e <= now ? READY_OTHER : 0;
-            }
-            if (hr) {
-                const int64_t e = max64(t.rd, b->next[DRAM_RD]);
-                lo = e < lo ? e : lo;
-                m |= e <= now && b->hits <= cap ? READY_HIT_RD : 0;
-            }
-            if (hw) {
-                const int64_t e = max64(t.wr, b->next[DRAM_WR]);
-                lo = e < lo ? e : lo;
-                m |= e <= now && b->hits <= cap ? READY_HIT_WR : 0;
-            }
+            const class_times e = bank_class_times(b, q->bc[i], &t);
+            lo = min64(lo, min64(e.other, min64(e.rd, e.wr)));
+            int m = e.other <= now ? READY_OTHER : 0;
+            m |= e.rd <= now && b->hits <= cap ? READY_HIT_RD : 0;
+            m |= e.wr <= now && b->hits <= cap ? READY_HIT_WR : 0;
             mask[i] = (uint8_t)m;
             any |= m;
         }
@@ -625,20 +633,8 @@ static int64_t queue_bound(const dram_ctrl *c, dchan *ch, const dqueue *q, int64
                 t = rank_bounds_of(ch, rk);
                 cur_rank = rk;
             }
-            const dqcount k = q->bc[i];
-            const dbank *b = &ch->banks[i];
-            if (k.n > k.hit[REQ_READ] + k.hit[REQ_WRITE]) {
-                const int64_t e = b->open_row < 0 ? max64(t.act, b->next[DRAM_ACT]) : max64(t.pre, b->next[DRAM_PRE]);
-                lo = e < lo ? e : lo;
-            }
-            if (k.hit[REQ_READ]) {
-                const int64_t e = max64(t.rd, b->next[DRAM_RD]);
-                lo = e < lo ? e : lo;
-            }
-            if (k.hit[REQ_WRITE]) {
-                const int64_t e = max64(t.wr, b->next[DRAM_WR]);
-                lo = e < lo ? e : lo;
-            }
+            const class_times e = bank_class_times(&ch->banks[i], q->bc[i], &t);
+            lo = min64(lo, min64(e.other, min64(e.rd, e.wr)));
         }
     }
     return lo;

@@ -548,6 +548,44 @@ static inline class_times bank_class_times(const dbank *b, dqcount k, const rank
 
 static inline int64_t min64(int64_t a, int64_t b) { return a < b ? a : b; }
 
+/* The banks with entries in a counted queue, in index order, each with its
+ * class times (the rank bounds computed once per rank): the walk shared by
+ * pick_counted and queue_bound. */
+typedef struct used_banks {
+    const dram_ctrl *c;
+    const dchan *ch;
+    const dqueue *q;
+    int w, words, cur_rank;
+    uint64_t bits;
+    rank_bounds t;
+} used_banks;
+
+static inline used_banks used_banks_begin(const dram_ctrl *c, const dchan *ch, const dqueue *q)
+{
+    used_banks it = {c, ch, q, 0, (c->nrank * c->nbank + 63) >> 6, -1, q->used[0], {0, 0, 0, 0}};
+    return it;
+}
+
+/* Next bank: its index in *bidx and class times in *e; 0 when there is none. */
+static inline int used_banks_next(used_banks *it, int *bidx, class_times *e)
+{
+    while (!it->bits) {
+        if (++it->w >= it->words)
+            return 0;
+        it->bits = it->q->used[it->w];
+    }
+    const int i = (it->w << 6) + __builtin_ctzll(it->bits);
+    it->bits &= it->bits - 1;
+    const int rk = it->c->nrank == 1 ? 0 : i / it->c->nbank;
+    if (rk != it->cur_rank) {
+        it->t = rank_bounds_of(it->ch, rk);
+        it->cur_rank = rk;
+    }
+    *bidx = i;
+    *e = bank_class_times(&it->ch->banks[i], it->q->bc[i], &it->t);
+    return 1;
+}
+
 /* pick() for a counted queue, with the same result: per bank, the requests fall in
  * three classes (row hits by reads, by writes, and the rest: ACT if the bank is
  * closed, PRE if another row is open) that share their next command and thus their
@@ -565,26 +603,17 @@ static int pick_counted(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, in
     /* mask[] is written for every bank with entries: the only ones read below */
     uint8_t mask[MAX_BANK_INDEX];
     int any = 0;
-    rank_bounds t = {0};
-    int cur_rank = -1;
-    const int words = (c->nrank * c->nbank + 63) >> 6;
-    for (int w = 0; w < words; w++) {
-        for (uint64_t bits = q->used[w]; bits; bits &= bits - 1) {
-            const int i = (w << 6) + __builtin_ctzll(bits);
-            const int rk = c->nrank == 1 ? 0 : i / c->nbank;
-            if (rk != cur_rank) {
-                t = rank_bounds_of(ch, rk);
-                cur_rank = rk;
-            }
-            const dbank *b = &ch->banks[i];
-            const class_times e = bank_class_times(b, q->bc[i], &t);
-            lo = min64(lo, min64(e.other, min64(e.rd, e.wr)));
-            int m = e.other <= now ? READY_OTHER : 0;
-            m |= e.rd <= now && b->hits <= cap ? READY_HIT_RD : 0;
-            m |= e.wr <= now && b->hits <= cap ? READY_HIT_WR : 0;
-            mask[i] = (uint8_t)m;
-            any |= m;
-        }
+    used_banks it = used_banks_begin(c, ch, q);
+    int bi;
+    class_times e;
+    while (used_banks_next(&it, &bi, &e)) {
+        const int hit_ok = ch->banks[bi].hits <= cap;
+        lo = min64(lo, min64(e.other, min64(e.rd, e.wr)));
+        int m = e.other <= now ? READY_OTHER : 0;
+        m |= e.rd <= now && hit_ok ? READY_HIT_RD : 0;
+        m |= e.wr <= now && hit_ok ? READY_HIT_WR : 0;
+        mask[bi] = (uint8_t)m;
+        any |= m;
     }
     *min_earliest = lo;
     int best = 0;
@@ -622,21 +651,11 @@ static int64_t queue_bound(const dram_ctrl *c, dchan *ch, const dqueue *q, int64
         }
         return lo;
     }
-    rank_bounds t = {0};
-    int cur_rank = -1;
-    const int words = (c->nrank * c->nbank + 63) >> 6;
-    for (int w = 0; w < words; w++) {
-        for (uint64_t bits = q->used[w]; bits; bits &= bits - 1) {
-            const int i = (w << 6) + __builtin_ctzll(bits);
-            const int rk = c->nrank == 1 ? 0 : i / c->nbank;
-            if (rk != cur_rank) {
-                t = rank_bounds_of(ch, rk);
-                cur_rank = rk;
-            }
-            const class_times e = bank_class_times(&ch->banks[i], q->bc[i], &t);
-            lo = min64(lo, min64(e.other, min64(e.rd, e.wr)));
-        }
-    }
+    used_banks it = used_banks_begin(c, ch, q);
+    int bi;
+    class_times e;
+    while (used_banks_next(&it, &bi, &e))
+        lo = min64(lo, min64(e.other, min64(e.rd, e.wr)));
     return lo;
 }
 

@@ -67,10 +67,6 @@ static inline __attribute__((always_inline)) void pipe_ring_push_v(pipe_ring *p,
     if (vcd && p->v_occ)
         ks_vcd_set(p->v_occ, p->count);
 }
-static inline void pipe_ring_push(pipe_ring *p, uint32_t ray, uint32_t result, uint64_t cycle)
-{
-    pipe_ring_push_v(p, ray, result, cycle, true);
-}
 static inline __attribute__((always_inline)) pipe_item pipe_ring_pop_v(pipe_ring *p, bool vcd)
 {
     pipe_item it = p->items[p->head];
@@ -80,7 +76,5 @@ static inline __attribute__((always_inline)) pipe_item pipe_ring_pop_v(pipe_ring
         ks_vcd_set(p->v_occ, p->count);
     return it;
 }
-
-static inline pipe_item pipe_ring_pop(pipe_ring *p) { return pipe_ring_pop_v(p, true); }
 
 #endif

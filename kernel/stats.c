@@ -446,7 +446,10 @@ int ks_stats_write_csv(const ks_stats *reg, FILE *o)
 int ks_stats_write_summary(const ks_stats *reg, FILE *o)
 {
     int wn = 4, wv = 5, wu = 4;
-    char (*vals)[48] = xrealloc(NULL, (reg->n + 1) * sizeof *vals);
+    /* Room for the longest histogram line: "n=" + 20 digits + " mean=" + 11
+     * (%.4g of -DBL_MAX) + " max=" + 11 + NUL = 56 (gcc's -Wformat-truncation
+     * flags anything smaller when it sees the ranges, e.g. with -O3 or PGO). */
+    char (*vals)[64] = xrealloc(NULL, (reg->n + 1) * sizeof *vals);
     for (unsigned i = 0; i < reg->n; i++) {
         const stat_entry *e = reg->e[i];
         if (e->kind == ST_COUNTER)

@@ -12,7 +12,7 @@ enum { REQ_READ, REQ_WRITE, REQ_REFRESH };
 
 typedef struct dreq {
     uint64_t addr, tag;
-    int64_t arrive, depart;
+    int64_t arrive;
     uint32_t row;
     uint16_t rank, bank;
     uint16_t bidx;         /* rank * banks + bank */
@@ -20,6 +20,9 @@ typedef struct dreq {
     uint8_t first;         /* no command issued yet (row hit/miss/conflict not yet counted) */
     uint8_t hit;           /* in a counted queue: targets its bank's open row (kept by q_push
                               and q_recount, so the scans need not look at the bank) */
+    uint64_t seq;          /* in a queue: its push number there (queue order = seq order) */
+    int32_t prev, next;    /* in a queue: neighbours in queue order (pool slots, -1 none) */
+    int32_t bprev, bnext;  /* in a counted queue: neighbours among the entries of its bank */
 } dreq;
 
 /* A request queue. Read, write and act queues also keep, per bank, how many
@@ -34,15 +37,29 @@ typedef struct dqcount {
 #define MAX_BANK_INDEX 512
 #define BANK_WORDS (MAX_BANK_INDEX / 64)
 
+/* Entries live in slots of the channel's pool and never move while queued: a
+ * queue links them in queue order (push order; FR-FCFS "first" = lowest seq) and,
+ * counted queues, per bank as well, so removal is an unlink (no shifting of the
+ * entries behind), a bank's row-hit recount visits only that bank's entries, and
+ * the search for the first ready entry visits only the ready banks' entries. */
 typedef struct dqueue {
-    dreq *v;
-    int n, cap;
+    int n;
+    int head, tail;        /* first / last entry in queue order, -1: empty */
+    uint64_t seq;          /* pushes so far (the next entry's seq) */
+    int32_t *bhead;        /* per bank index: its first entry in queue order (counted queues) */
+    int32_t *btail;        /* per bank index: its last entry */
     dqcount *bc;           /* per bank index (rank * banks + bank); NULL: not counted (otherq) */
     uint64_t used[BANK_WORDS]; /* bit i: bc[i].n > 0 (the scan visits only these banks) */
     /* banks 0..63 by request class (channels of at most 64 banks, one rank: the
      * fast scan): entries that are no row hit, read row hits, write row hits */
     uint64_t cls_other, cls_rd, cls_wr;
 } dqueue;
+
+/* A read waiting for its data (or forwarded from the write queue). */
+typedef struct dpend {
+    uint64_t addr, tag;
+    int64_t arrive, depart;
+} dpend;
 
 typedef struct dbank {
     int64_t next[DRAM_NCMD];   /* earliest cycle each command may issue (bank constraints); the
@@ -64,7 +81,9 @@ typedef struct dchan {
     int64_t next[DRAM_NCMD];
     int64_t hist[DRAM_NCMD][DRAM_MAX_WINDOW];
     dqueue readq, writeq, actq, otherq;
-    dreq *pend;                /* ring of reads waiting for their data, FIFO */
+    dreq *pool;                /* entry slots of the four queues */
+    int pool_cap, pool_free;   /* free slots linked through next, -1: none */
+    dpend *pend;               /* ring of reads waiting for their data, FIFO */
     int pend_head, pend_n, pend_cap; /* pend_cap: 0 or a power of two (index by mask) */
     drank *ranks;
     dbank *banks;              /* rank-major */
@@ -128,19 +147,24 @@ static void *xcalloc(size_t n, size_t sz)
     return p;
 }
 
-static void q_init(dqueue *q, int cap, int nbanks)
+static void q_init(dqueue *q, int nbanks)
 {
-    q->cap = cap;
     q->n = 0;
-    q->v = xcalloc((size_t)cap, sizeof *q->v);
-    if (nbanks)
+    q->head = q->tail = -1;
+    if (nbanks) {
         q->bc = xcalloc((size_t)nbanks, sizeof *q->bc);
+        q->bhead = xcalloc((size_t)nbanks, sizeof *q->bhead);
+        q->btail = xcalloc((size_t)nbanks, sizeof *q->btail);
+        for (int i = 0; i < nbanks; i++)
+            q->bhead[i] = q->btail[i] = -1;
+    }
 }
 
 static void q_free(dqueue *q)
 {
-    free(q->v);
     free(q->bc);
+    free(q->bhead);
+    free(q->btail);
 }
 
 /* The class bits of bank bidx in q from its counters. */
@@ -155,11 +179,9 @@ static inline void q_class_bits(dqueue *q, int bidx)
     q->cls_wr = k.hit[REQ_WRITE] ? q->cls_wr | bit : q->cls_wr & ~bit;
 }
 
-/* Per-bank counters of a counted queue: +1 or -1 for entry r given the banks' state. */
-static inline void q_count(dqueue *q, const dbank *banks, const dreq *r, int d)
+/* Per-bank counters of a counted queue: +1 or -1 for entry r (its hit flag current). */
+static inline void q_count(dqueue *q, const dreq *r, int d)
 {
-    if (!q->bc)
-        return;
     dqcount *k = &q->bc[r->bidx];
     k->n = (uint16_t)(k->n + d);
     const uint64_t bit = 1ull << (r->bidx & 63);
@@ -167,69 +189,131 @@ static inline void q_count(dqueue *q, const dbank *banks, const dreq *r, int d)
         q->used[r->bidx >> 6] |= bit;
     else
         q->used[r->bidx >> 6] &= ~bit;
-    if (banks[r->bidx].open_row >= 0 && (uint32_t)banks[r->bidx].open_row == r->row)
+    if (r->hit)
         k->hit[r->type] = (uint16_t)(k->hit[r->type] + d);
     q_class_bits(q, r->bidx);
 }
 
 /* Bank bidx changed its open row: recount its row hits in a counted queue. */
-static void q_recount(dqueue *q, const dbank *banks, int bidx)
+static void q_recount(dchan *ch, dqueue *q, int bidx)
 {
     dqcount *k = &q->bc[bidx];
     if (!k->n)
         return; /* no entries: no hits, class bits clear */
     const int had_hits = k->hit[0] + k->hit[1];
     k->hit[0] = k->hit[1] = 0;
-    if (banks[bidx].open_row >= 0) {
-        const uint32_t row = (uint32_t)banks[bidx].open_row;
-        for (int i = 0; i < q->n; i++) {
-            dreq *r = &q->v[i];
-            if (r->bidx == bidx) {
-                r->hit = r->row == row;
-                k->hit[r->type] = (uint16_t)(k->hit[r->type] + r->hit);
-            }
+    dreq *const pool = ch->pool;
+    if (ch->banks[bidx].open_row >= 0) {
+        const uint32_t row = (uint32_t)ch->banks[bidx].open_row;
+        for (int s = q->bhead[bidx]; s >= 0; s = pool[s].bnext) {
+            dreq *r = &pool[s];
+            r->hit = r->row == row;
+            k->hit[r->type] = (uint16_t)(k->hit[r->type] + r->hit);
         }
     } else if (had_hits) { /* closed: only former hits have a flag to clear */
-        for (int i = 0; i < q->n; i++)
-            if (q->v[i].bidx == bidx)
-                q->v[i].hit = 0;
+        for (int s = q->bhead[bidx]; s >= 0; s = pool[s].bnext)
+            pool[s].hit = 0;
     }
     q_class_bits(q, bidx);
 }
 
-static void q_push_raw(dqueue *q, const dreq *r)
+/* A free pool slot (the pool grows by doubling; slots are indices, so links survive). */
+static int slot_alloc(dchan *ch)
 {
-    if (q->n == q->cap) {
-        q->cap *= 2;
-        q->v = realloc(q->v, (size_t)q->cap * sizeof *q->v);
-        if (!q->v) {
+    if (ch->pool_free < 0) {
+        const int ncap = ch->pool_cap ? 2 * ch->pool_cap : 64;
+        dreq *nv = realloc(ch->pool, (size_t)ncap * sizeof *nv);
+        if (!nv) {
             fprintf(stderr, "dram_ctrl: out of memory\n");
             exit(1);
         }
+        ch->pool = nv;
+        for (int i = ncap - 1; i >= ch->pool_cap; i--) {
+            nv[i].next = ch->pool_free;
+            ch->pool_free = i;
+        }
+        ch->pool_cap = ncap;
     }
-    q->v[q->n++] = *r;
+    const int s = ch->pool_free;
+    ch->pool_free = ch->pool[s].next;
+    return s;
 }
 
-static void q_push(dqueue *q, const dbank *banks, const dreq *r)
+/* Links slot s (its request fields set) at the back of q. */
+static void q_link(dchan *ch, dqueue *q, int s)
 {
-    q_count(q, banks, r, +1);
-    q_push_raw(q, r);
-    q->v[q->n - 1].hit = banks[r->bidx].open_row >= 0 && (uint32_t)banks[r->bidx].open_row == r->row;
+    dreq *const pool = ch->pool;
+    dreq *r = &pool[s];
+    r->seq = q->seq++;
+    r->prev = q->tail;
+    r->next = -1;
+    if (q->tail >= 0)
+        pool[q->tail].next = s;
+    else
+        q->head = s;
+    q->tail = s;
+    q->n++;
+    if (!q->bc)
+        return;
+    const dbank *b = &ch->banks[r->bidx];
+    r->hit = b->open_row >= 0 && (uint32_t)b->open_row == r->row;
+    q_count(q, r, +1);
+    const int bt = q->btail[r->bidx];
+    r->bprev = bt;
+    r->bnext = -1;
+    if (bt >= 0)
+        pool[bt].bnext = s;
+    else
+        q->bhead[r->bidx] = s;
+    q->btail[r->bidx] = s;
 }
 
-
-static void q_erase(dqueue *q, const dbank *banks, int i)
+/* Unlinks slot s from q (the slot stays allocated). */
+static void q_unlink(dchan *ch, dqueue *q, int s)
 {
-    q_count(q, banks, &q->v[i], -1);
-    memmove(&q->v[i], &q->v[i + 1], (size_t)(q->n - i - 1) * sizeof *q->v);
+    dreq *const pool = ch->pool;
+    const dreq *r = &pool[s];
+    if (r->prev >= 0)
+        pool[r->prev].next = r->next;
+    else
+        q->head = r->next;
+    if (r->next >= 0)
+        pool[r->next].prev = r->prev;
+    else
+        q->tail = r->prev;
     q->n--;
+    if (!q->bc)
+        return;
+    q_count(q, r, -1);
+    if (r->bprev >= 0)
+        pool[r->bprev].bnext = r->bnext;
+    else
+        q->bhead[r->bidx] = r->bnext;
+    if (r->bnext >= 0)
+        pool[r->bnext].bprev = r->bprev;
+    else
+        q->btail[r->bidx] = r->bprev;
 }
 
-static void pend_push(dchan *ch, const dreq *r)
+static void q_push(dchan *ch, dqueue *q, const dreq *r)
+{
+    const int s = slot_alloc(ch);
+    ch->pool[s] = *r;
+    q_link(ch, q, s);
+}
+
+static void q_erase(dchan *ch, dqueue *q, int s)
+{
+    q_unlink(ch, q, s);
+    ch->pool[s].next = ch->pool_free;
+    ch->pool_free = s;
+}
+
+static void pend_push(dchan *ch, uint64_t addr, uint64_t tag, int64_t arrive, int64_t depart)
 {
     if (ch->pend_n == ch->pend_cap) {
         int ncap = ch->pend_cap ? 2 * ch->pend_cap : 16;
-        dreq *nv = xcalloc((size_t)ncap, sizeof *nv);
+        dpend *nv = xcalloc((size_t)ncap, sizeof *nv);
         for (int i = 0; i < ch->pend_n; i++)
             nv[i] = ch->pend[(ch->pend_head + i) % ch->pend_cap];
         free(ch->pend);
@@ -237,7 +321,7 @@ static void pend_push(dchan *ch, const dreq *r)
         ch->pend_cap = ncap;
         ch->pend_head = 0;
     }
-    ch->pend[(ch->pend_head + ch->pend_n++) & (ch->pend_cap - 1)] = *r;
+    ch->pend[(ch->pend_head + ch->pend_n++) & (ch->pend_cap - 1)] = (dpend){addr, tag, arrive, depart};
 }
 
 dram_ctrl *dram_ctrl_create(const dram_spec *spec, dram_done_fn done, void *user, char *err, size_t errlen)
@@ -284,10 +368,11 @@ dram_ctrl *dram_ctrl_create(const dram_spec *spec, dram_done_fn done, void *user
     c->ch = xcalloc((size_t)c->nch, sizeof *c->ch);
     for (int i = 0; i < c->nch; i++) {
         dchan *ch = &c->ch[i];
-        q_init(&ch->readq, spec->read_queue, c->nrank * c->nbank);
-        q_init(&ch->writeq, spec->write_queue, c->nrank * c->nbank);
-        q_init(&ch->actq, spec->read_queue + spec->write_queue, c->nrank * c->nbank);
-        q_init(&ch->otherq, 4 * c->nrank, 0);
+        q_init(&ch->readq, c->nrank * c->nbank);
+        q_init(&ch->writeq, c->nrank * c->nbank);
+        q_init(&ch->actq, c->nrank * c->nbank);
+        q_init(&ch->otherq, 0);
+        ch->pool_free = -1;
         ch->ranks = xcalloc((size_t)c->nrank, sizeof *ch->ranks);
         ch->banks = xcalloc((size_t)(c->nrank * c->nbank), sizeof *ch->banks);
         for (int k = 0; k < DRAM_NCMD; k++)
@@ -313,6 +398,7 @@ void dram_ctrl_destroy(dram_ctrl *c)
         q_free(&ch->writeq);
         q_free(&ch->actq);
         q_free(&ch->otherq);
+        free(ch->pool);
         free(ch->pend);
         free(ch->ranks);
         free(ch->banks);
@@ -369,14 +455,16 @@ static inline int64_t earliest(const dram_ctrl *c, dchan *ch, const dreq *r, int
 }
 
 /* FR-FCFS-Cap head: the oldest request that is ready with <= cap row hits, else the
- * oldest (ties: first in queue). `sorted` queues are in arrival order. -1 if empty. */
+ * oldest (ties: first in queue). `sorted` queues are in arrival order. Returns its
+ * pool slot, -1 if empty. */
 static int pick(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, int64_t *min_earliest)
 {
     int best = -1, best_ready = 0;
     const int cap = c->spec->row_hit_cap;
     int64_t lo = *min_earliest;
-    for (int i = 0; i < q->n; i++) {
-        const dreq *r = &q->v[i];
+    const dreq *const pool = ch->pool;
+    for (int i = q->head; i >= 0; i = pool[i].next) {
+        const dreq *r = &pool[i];
         int cmd = first_cmd(c, ch, r);
         int64_t e = earliest(c, ch, r, cmd);
         if (e < lo)
@@ -394,7 +482,7 @@ static int pick(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, int64_t *m
             best_ready = 1;
             if (sorted)
                 break;
-        } else if (ready == best_ready && r->arrive < q->v[best].arrive) {
+        } else if (ready == best_ready && r->arrive < pool[best].arrive) {
             best = i;
         }
     }
@@ -479,27 +567,46 @@ static inline int64_t class_bound(const dchan *ch, uint64_t other, uint64_t rd, 
 }
 
 /* pick_counted's choice in q given the ready sets of class_state (which covered
- * q's classes): the first (sorted) or oldest ready entry, else the oldest. */
-static int find_ready1(const dqueue *q, int sorted, const class_ready *cr)
+ * q's classes): the first (sorted) or oldest ready entry, else the first or oldest
+ * of all (ties: first in queue). A bank's entries are ready by class, so only the
+ * ready banks' entries are visited, each bank's in queue order (the first ready one
+ * of a bank is its candidate when sorted); "first" across banks is the lowest seq.
+ * Returns a pool slot, or -1 when nothing in q can issue now. */
+static int find_ready1(const dchan *ch, const dqueue *q, int sorted, const class_ready *cr)
 {
-    const int any = ((cr->other & q->cls_other) | (cr->rd & q->cls_rd) | (cr->wr & q->cls_wr)) != 0;
-    if (sorted) {
-        if (any)
-            for (int i = 0; i < q->n; i++)
-                if (class_ready_has(&q->v[i], cr))
-                    return i;
-        return 0;
-    }
-    int best = 0, best_ready = any ? -1 : 0; /* without ready entries, the oldest of all */
-    for (int i = 0; i < q->n; i++) {
-        const dreq *r = &q->v[i];
-        if (any && !class_ready_has(r, cr))
-            continue;
-        if (best_ready < 0 || r->arrive < q->v[best].arrive) {
-            best = i;
-            best_ready = 1;
+    const dreq *const pool = ch->pool;
+    const uint64_t ro = cr->other & q->cls_other, rr = cr->rd & q->cls_rd, rw = cr->wr & q->cls_wr;
+    int best = -1;
+    for (uint64_t bits = ro | rr | rw; bits; bits &= bits - 1) {
+        const int b = __builtin_ctzll(bits);
+        for (int s = q->bhead[b]; s >= 0; s = pool[s].bnext) {
+            const dreq *r = &pool[s];
+            const uint64_t set = r->hit ? (r->type == REQ_WRITE ? rw : rr) : ro;
+            if (!((set >> b) & 1))
+                continue;
+            if (sorted) {
+                if (best < 0 || r->seq < pool[best].seq)
+                    best = s;
+                break;
+            }
+            if (best < 0 || r->arrive < pool[best].arrive ||
+                (r->arrive == pool[best].arrive && r->seq < pool[best].seq))
+                best = s;
         }
     }
+    if (best >= 0)
+        return best;
+    /* Without ready entries the choice is the first or oldest of all, which can issue
+     * only if its class was left out of the ready sets for the row-hit cap alone (a
+     * class not ready has its earliest cycle ahead): else skip the search. */
+    if (!((q->cls_rd | q->cls_wr) & ch->capped_mask))
+        return -1;
+    if (sorted)
+        return q->head;
+    best = q->head; /* the oldest of all */
+    for (int s = pool[best].next; s >= 0; s = pool[s].next)
+        if (pool[s].arrive < pool[best].arrive)
+            best = s;
     return best;
 }
 
@@ -510,7 +617,7 @@ static int pick_counted1(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, i
     class_ready cr;
     class_state(ch, q->cls_other, q->cls_rd, q->cls_wr, c->clk, &cr);
     *min_earliest = class_bound(ch, q->cls_other, q->cls_rd, q->cls_wr, *min_earliest);
-    return find_ready1(q, sorted, &cr);
+    return find_ready1(ch, q, sorted, &cr);
 }
 
 /* The channel and rank bounds of the four bank commands for rank rk: a bank
@@ -616,20 +723,21 @@ static int pick_counted(const dram_ctrl *c, dchan *ch, dqueue *q, int sorted, in
         any |= m;
     }
     *min_earliest = lo;
-    int best = 0;
+    const dreq *const pool = ch->pool;
+    int best = q->head;
     if (sorted) {
         if (any)
-            for (int i = 0; i < q->n; i++)
-                if (counted_ready(&ch->banks[q->v[i].bidx], &q->v[i], mask))
+            for (int i = q->head; i >= 0; i = pool[i].next)
+                if (counted_ready(&ch->banks[pool[i].bidx], &pool[i], mask))
                     return i;
-        return 0;
+        return q->head;
     }
     int best_ready = any ? -1 : 0; /* without ready entries, the oldest of all */
-    for (int i = 0; i < q->n; i++) {
-        const dreq *r = &q->v[i];
+    for (int i = q->head; i >= 0; i = pool[i].next) {
+        const dreq *r = &pool[i];
         if (any && !counted_ready(&ch->banks[r->bidx], r, mask))
             continue;
-        if (best_ready < 0 || r->arrive < q->v[best].arrive) {
+        if (best_ready < 0 || r->arrive < pool[best].arrive) {
             best = i;
             best_ready = 1;
         }
@@ -645,8 +753,8 @@ static int64_t queue_bound(const dram_ctrl *c, dchan *ch, const dqueue *q, int64
     if (q->n == 0)
         return lo;
     if (!q->bc) {
-        for (int i = 0; i < q->n; i++) {
-            const int64_t e = earliest(c, ch, &q->v[i], first_cmd(c, ch, &q->v[i]));
+        for (int i = q->head; i >= 0; i = ch->pool[i].next) {
+            const int64_t e = earliest(c, ch, &ch->pool[i], first_cmd(c, ch, &ch->pool[i]));
             lo = e < lo ? e : lo;
         }
         return lo;
@@ -685,9 +793,9 @@ static void hist_push(int64_t (*hist)[DRAM_MAX_WINDOW], int cmd, int depth, int6
 /* The open row of bank bidx changed: keep the queues' per-bank hit counts exact. */
 static void bank_row_changed(dchan *ch, int bidx)
 {
-    q_recount(&ch->readq, ch->banks, bidx);
-    q_recount(&ch->writeq, ch->banks, bidx);
-    q_recount(&ch->actq, ch->banks, bidx);
+    q_recount(ch, &ch->readq, bidx);
+    q_recount(ch, &ch->writeq, bidx);
+    q_recount(ch, &ch->actq, bidx);
 }
 
 /* Mirrors bank bidx's open state and hit cap into the channel's masks. */
@@ -807,19 +915,18 @@ bool dram_add(dram_ctrl *c, uint64_t addr, bool is_write, uint64_t tag)
         return false; /* = !dram_will_accept() */
     c->pending++;
     occ_flush(ch, c->clk);
-    dreq r = {.addr = addr, .tag = tag, .arrive = c->clk, .depart = 0, .row = a.row,
+    dreq r = {.addr = addr, .tag = tag, .arrive = c->clk, .row = a.row,
               .rank = (uint16_t)a.rank, .bank = (uint16_t)a.bank,
               .bidx = (uint16_t)(a.rank * (uint32_t)c->nbank + a.bank), .type = is_write ? REQ_WRITE : REQ_READ, .first = 1};
     if (!is_write)
-        for (int i = 0; i < ch->writeq.n; i++)
-            if (ch->writeq.v[i].addr == addr) { /* forwarded from the write queue */
-                r.depart = c->clk + 1;
+        for (int i = ch->writeq.head; i >= 0; i = ch->pool[i].next)
+            if (ch->pool[i].addr == addr) { /* forwarded from the write queue */
                 ch->st.reads_forwarded++;
-                pend_push(ch, &r);
+                pend_push(ch, addr, tag, c->clk, c->clk + 1);
                 return true;
             }
     dqueue *q = queue_for(ch, is_write);
-    q_push(q, ch->banks, &r);
+    q_push(ch, q, &r);
     if (is_write)
         ch->wr_live++;
     else
@@ -891,7 +998,7 @@ static void chan_tick(dram_ctrl *c, int chi)
     occ_flush(ch, now);
     /* 1. one completed read */
     if (ch->pend_n && ch->pend[ch->pend_head].depart <= now) {
-        dreq r = ch->pend[ch->pend_head];
+        const dpend r = ch->pend[ch->pend_head];
         ch->pend_head = (ch->pend_head + 1) & (ch->pend_cap - 1);
         ch->pend_n--;
         c->pending--;
@@ -908,7 +1015,7 @@ static void chan_tick(dram_ctrl *c, int chi)
         for (int rk = 0; rk < c->nrank; rk++) {
             dreq r = {.arrive = now, .rank = (uint16_t)rk, .bidx = (uint16_t)(rk * c->nbank), .type = REQ_REFRESH,
                       .first = 0};
-            q_push(&ch->otherq, ch->banks, &r);
+            q_push(ch, &ch->otherq, &r);
             c->pending++;
         }
         ch->refreshed = now;
@@ -932,24 +1039,24 @@ static void chan_tick(dram_ctrl *c, int chi)
     const int shared = c->fast_scan && !c->exhaustive && mq != &ch->otherq;
     if (shared) { /* one class state for actq and the mode's queue */
         class_state(ch, q->cls_other | mq->cls_other, q->cls_rd | mq->cls_rd, q->cls_wr | mq->cls_wr, now, &cr);
-        i = q->n ? find_ready1(q, 0, &cr) : -1;
+        i = q->n ? find_ready1(ch, q, 0, &cr) : -1;
     } else {
         i = c->exhaustive ? pick(c, ch, q, 0, &lo) : pick_counted(c, ch, q, 0, &lo);
     }
     if (i >= 0) {
-        cmd = first_cmd(c, ch, &q->v[i]);
-        if (earliest(c, ch, &q->v[i], cmd) > now)
+        cmd = first_cmd(c, ch, &ch->pool[i]);
+        if (earliest(c, ch, &ch->pool[i], cmd) > now)
             i = -1;
     }
     if (i < 0) {
         q = mq;
         if (shared)
-            i = q->n ? find_ready1(q, 1, &cr) : -1;
+            i = q->n ? find_ready1(ch, q, 1, &cr) : -1;
         else
             i = c->exhaustive || q == &ch->otherq ? pick(c, ch, q, 1, &lo) : pick_counted(c, ch, q, 1, &lo);
         if (i >= 0) {
-            cmd = first_cmd(c, ch, &q->v[i]);
-            if (earliest(c, ch, &q->v[i], cmd) > now)
+            cmd = first_cmd(c, ch, &ch->pool[i]);
+            if (earliest(c, ch, &ch->pool[i], cmd) > now)
                 i = -1;
         }
         if (i < 0) { /* full scans of both queues: lo bounds the next issue */
@@ -961,7 +1068,7 @@ static void chan_tick(dram_ctrl *c, int chi)
         }
     }
     ch->sched_wake = 0;
-    dreq *r = &q->v[i];
+    dreq *r = &ch->pool[i];
     if (r->first && r->type != REQ_REFRESH) {
         r->first = 0;
         const dbank *b = bank_of(c, ch, r);
@@ -976,27 +1083,28 @@ static void chan_tick(dram_ctrl *c, int chi)
     const int final_cmd = r->type == REQ_READ ? DRAM_RD : r->type == REQ_WRITE ? DRAM_WR : DRAM_REF;
     if (cmd != final_cmd) {
         if (cmd == DRAM_ACT) { /* promote to actq (to its back, also from actq itself) */
-            dreq moved = *r;
-            q_erase(q, ch->banks, i);
-            q_push(&ch->actq, ch->banks, &moved);
+            q_unlink(ch, q, i);
+            q_link(ch, &ch->actq, i);
         }
         next_scan_bound(c, ch);
         return;
     }
-    dreq done = *r;
-    q_erase(q, ch->banks, i);
-    if (done.type == REQ_READ) {
+    /* the fields the completion needs, before the slot is freed (a done callback may add) */
+    const int type = r->type;
+    const uint64_t addr = r->addr, tag = r->tag;
+    const int64_t arrive = r->arrive;
+    q_erase(ch, q, i);
+    if (type == REQ_READ) {
         ch->rd_live--;
-        done.depart = now + c->spec->read_latency;
-        pend_push(ch, &done);
-    } else if (done.type == REQ_REFRESH) {
+        pend_push(ch, addr, tag, arrive, now + c->spec->read_latency);
+    } else if (type == REQ_REFRESH) {
         c->pending--;
-    } else if (done.type == REQ_WRITE) {
+    } else if (type == REQ_WRITE) {
         ch->wr_live--;
         c->pending--;
         ch->st.writes_done++;
         if (c->done)
-            c->done(c->done_user, done.addr, done.tag, true, now - done.arrive);
+            c->done(c->done_user, addr, tag, true, now - arrive);
     }
     next_scan_bound(c, ch);
 }

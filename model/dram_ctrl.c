@@ -18,19 +18,24 @@ typedef struct dreq {
     uint16_t bidx;         /* rank * banks + bank */
     uint8_t type;
     uint8_t first;         /* no command issued yet (row hit/miss/conflict not yet counted) */
-    uint8_t hit;           /* in a counted queue: targets its bank's open row (kept by q_push
-                              and q_recount, so the scans need not look at the bank) */
+    uint8_t cls;           /* in a counted queue: its request class (CLS_*: a row hit of its
+                              bank's open row by type, or not; kept by q_link and q_recount,
+                              so the scans need not look at the bank) */
     uint64_t seq;          /* in a queue: its push number there (queue order = seq order) */
     int32_t prev, next;    /* in a queue: neighbours in queue order (pool slots, -1 none) */
     int32_t bprev, bnext;  /* in a counted queue: neighbours among the entries of its bank */
 } dreq;
 
+/* Request classes of a bank's entries: the entries of a class share their next
+ * command (ACT if the bank is closed, PRE if another row is open; RD; WR). */
+enum { CLS_OTHER, CLS_RD, CLS_WR }; /* CLS_RD + type is the class of a row hit */
+
 /* A request queue. Read, write and act queues also keep, per bank, how many
- * entries target it and how many of those hit its open row (by type), so the
- * scheduler decides "can anything issue now" per bank instead of per entry. */
+ * entries target it and how many of them fall in each class, so the scheduler
+ * decides "can anything issue now" per bank instead of per entry. */
 typedef struct dqcount {
     uint16_t n;            /* entries targeting the bank */
-    uint16_t hit[2];       /* of which hit its open row, by type (REQ_READ, REQ_WRITE) */
+    uint16_t cnt[3];       /* of which in each class (CLS_*) */
 } dqcount;
 
 /* Bank indices per channel at most (ranks <= 8, banks <= 64: dram_timing.c). */
@@ -52,7 +57,12 @@ typedef struct dqueue {
     uint64_t used[BANK_WORDS]; /* bit i: bc[i].n > 0 (the scan visits only these banks) */
     /* banks 0..63 by request class (channels of at most 64 banks, one rank: the
      * fast scan): entries that are no row hit, read row hits, write row hits */
-    uint64_t cls_other, cls_rd, cls_wr;
+    union {
+        uint64_t cls[3];   /* by class (CLS_*) */
+        struct {
+            uint64_t cls_other, cls_rd, cls_wr;
+        };
+    };
 } dqueue;
 
 /* A read waiting for its data (or forwarded from the write queue). */
@@ -174,24 +184,30 @@ static inline void q_class_bits(dqueue *q, int bidx)
         return;
     const dqcount k = q->bc[bidx];
     const uint64_t bit = 1ull << bidx;
-    q->cls_other = k.n > k.hit[0] + k.hit[1] ? q->cls_other | bit : q->cls_other & ~bit;
-    q->cls_rd = k.hit[REQ_READ] ? q->cls_rd | bit : q->cls_rd & ~bit;
-    q->cls_wr = k.hit[REQ_WRITE] ? q->cls_wr | bit : q->cls_wr & ~bit;
+    q->cls_other = k.cnt[CLS_OTHER] ? q->cls_other | bit : q->cls_other & ~bit;
+    q->cls_rd = k.cnt[CLS_RD] ? q->cls_rd | bit : q->cls_rd & ~bit;
+    q->cls_wr = k.cnt[CLS_WR] ? q->cls_wr | bit : q->cls_wr & ~bit;
 }
 
-/* Per-bank counters of a counted queue: +1 or -1 for entry r (its hit flag current). */
+/* Per-bank counters of a counted queue: entry r (its class current) joins (d = +1)
+ * or leaves (d = -1). Only r's class can change its bit: set on joining, cleared
+ * when the class's count drops to 0. */
 static inline void q_count(dqueue *q, const dreq *r, int d)
 {
     dqcount *k = &q->bc[r->bidx];
     k->n = (uint16_t)(k->n + d);
+    k->cnt[r->cls] = (uint16_t)(k->cnt[r->cls] + d);
     const uint64_t bit = 1ull << (r->bidx & 63);
-    if (k->n)
+    if (d > 0) {
         q->used[r->bidx >> 6] |= bit;
-    else
-        q->used[r->bidx >> 6] &= ~bit;
-    if (r->hit)
-        k->hit[r->type] = (uint16_t)(k->hit[r->type] + d);
-    q_class_bits(q, r->bidx);
+        if (r->bidx < 64)
+            q->cls[r->cls] |= bit;
+    } else {
+        if (!k->n)
+            q->used[r->bidx >> 6] &= ~bit;
+        if (r->bidx < 64 && !k->cnt[r->cls])
+            q->cls[r->cls] &= ~bit;
+    }
 }
 
 /* Bank bidx changed its open row: recount its row hits in a counted queue. */
@@ -200,19 +216,23 @@ static void q_recount(dchan *ch, dqueue *q, int bidx)
     dqcount *k = &q->bc[bidx];
     if (!k->n)
         return; /* no entries: no hits, class bits clear */
-    const int had_hits = k->hit[0] + k->hit[1];
-    k->hit[0] = k->hit[1] = 0;
+    const int had_hits = k->n != k->cnt[CLS_OTHER];
     dreq *const pool = ch->pool;
     if (ch->banks[bidx].open_row >= 0) {
         const uint32_t row = (uint32_t)ch->banks[bidx].open_row;
+        k->cnt[CLS_OTHER] = k->cnt[CLS_RD] = k->cnt[CLS_WR] = 0;
         for (int s = q->bhead[bidx]; s >= 0; s = pool[s].bnext) {
             dreq *r = &pool[s];
-            r->hit = r->row == row;
-            k->hit[r->type] = (uint16_t)(k->hit[r->type] + r->hit);
+            r->cls = r->row == row ? (uint8_t)(CLS_RD + r->type) : (uint8_t)CLS_OTHER;
+            k->cnt[r->cls]++;
         }
-    } else if (had_hits) { /* closed: only former hits have a flag to clear */
+    } else if (had_hits) { /* closed: only former hits have a class to reset */
+        k->cnt[CLS_OTHER] = k->n;
+        k->cnt[CLS_RD] = k->cnt[CLS_WR] = 0;
         for (int s = q->bhead[bidx]; s >= 0; s = pool[s].bnext)
-            pool[s].hit = 0;
+            pool[s].cls = CLS_OTHER;
+    } else {
+        return; /* all were and stay CLS_OTHER */
     }
     q_class_bits(q, bidx);
 }
@@ -256,7 +276,7 @@ static void q_link(dchan *ch, dqueue *q, int s)
     if (!q->bc)
         return;
     const dbank *b = &ch->banks[r->bidx];
-    r->hit = b->open_row >= 0 && (uint32_t)b->open_row == r->row;
+    r->cls = b->open_row >= 0 && (uint32_t)b->open_row == r->row ? (uint8_t)(CLS_RD + r->type) : (uint8_t)CLS_OTHER;
     q_count(q, r, +1);
     const int bt = q->btail[r->bidx];
     r->bprev = bt;
@@ -506,12 +526,6 @@ typedef struct class_ready {
     uint64_t other, rd, wr;
 } class_ready;
 
-static inline int class_ready_has(const dreq *r, const class_ready *cr)
-{
-    const uint64_t set = r->hit ? (r->type == REQ_WRITE ? cr->wr : cr->rd) : cr->other;
-    return (int)((set >> r->bidx) & 1);
-}
-
 /* One command class of pick_counted1: banks `bits` need `cmd`; their earliest cycle
  * is max(channel/rank bound, bank next[cmd]). Returns the banks ready at now (none
  * while the channel/rank bound is later, without looking at the banks). */
@@ -575,14 +589,13 @@ static inline int64_t class_bound(const dchan *ch, uint64_t other, uint64_t rd, 
 static int find_ready1(const dchan *ch, const dqueue *q, int sorted, const class_ready *cr)
 {
     const dreq *const pool = ch->pool;
-    const uint64_t ro = cr->other & q->cls_other, rr = cr->rd & q->cls_rd, rw = cr->wr & q->cls_wr;
+    const uint64_t set[3] = {cr->other & q->cls_other, cr->rd & q->cls_rd, cr->wr & q->cls_wr};
     int best = -1;
-    for (uint64_t bits = ro | rr | rw; bits; bits &= bits - 1) {
+    for (uint64_t bits = set[CLS_OTHER] | set[CLS_RD] | set[CLS_WR]; bits; bits &= bits - 1) {
         const int b = __builtin_ctzll(bits);
         for (int s = q->bhead[b]; s >= 0; s = pool[s].bnext) {
             const dreq *r = &pool[s];
-            const uint64_t set = r->hit ? (r->type == REQ_WRITE ? rw : rr) : ro;
-            if (!((set >> b) & 1))
+            if (!((set[r->cls] >> b) & 1))
                 continue;
             if (sorted) {
                 if (best < 0 || r->seq < pool[best].seq)
@@ -644,11 +657,11 @@ typedef struct class_times {
 static inline class_times bank_class_times(const dbank *b, dqcount k, const rank_bounds *t)
 {
     class_times e = {INT64_MAX, INT64_MAX, INT64_MAX};
-    if (k.n > k.hit[REQ_READ] + k.hit[REQ_WRITE])
+    if (k.cnt[CLS_OTHER])
         e.other = b->open_row < 0 ? max64(t->act, b->next[DRAM_ACT]) : max64(t->pre, b->next[DRAM_PRE]);
-    if (k.hit[REQ_READ])
+    if (k.cnt[CLS_RD])
         e.rd = max64(t->rd, b->next[DRAM_RD]);
-    if (k.hit[REQ_WRITE])
+    if (k.cnt[CLS_WR])
         e.wr = max64(t->wr, b->next[DRAM_WR]);
     return e;
 }

@@ -78,6 +78,7 @@ typedef struct dbank {
                                   command changes the channel's next[] of every bank at once) */
     int32_t open_row;          /* -1 = closed */
     int32_t hits;              /* RD/WR to the open row since its ACT (Ramulator RowTable) */
+    int64_t pad;               /* to 64 bytes: the class scans index banks by a shift */
 } dbank;
 
 typedef struct drank {

@@ -143,9 +143,10 @@ struct dram_ctrl {
     int max_window[DRAM_NSCOPE][DRAM_NCMD];
     /* per FROM command, its channel, rank and (bank commands) bank rows in one list,
      * the scope as the target index (0 channel, 1 rank, 2 bank): issue() applies them
-     * in one loop (each row only raises a next[], so the order does not matter) */
+     * in one loop (each row only raises a next[], so the order does not matter); the
+     * first n_irows1 have a window of 1 (measured from now: no history look-up) */
     issue_row irows[DRAM_NCMD][DRAM_MAX_CONSTRAINTS];
-    int n_irows[DRAM_NCMD];
+    int n_irows[DRAM_NCMD], n_irows1[DRAM_NCMD];
 };
 
 static void *xcalloc(size_t n, size_t sz)
@@ -380,11 +381,15 @@ dram_ctrl *dram_ctrl_create(const dram_spec *spec, dram_done_fn done, void *user
         }
     for (int f = 0; f < DRAM_NCMD; f++) {
         const int nscope = dram_cmd_is_bank_scoped(f) ? 3 : 2;
-        for (int sc = 0; sc < nscope; sc++)
-            for (int i = 0; i < c->row_count[sc][f]; i++) {
-                const cons_row *r = &c->rows[c->row_start[sc][f] + i];
-                c->irows[f][c->n_irows[f]++] = (issue_row){(uint8_t)sc, r->to, r->window, r->cycles};
-            }
+        for (int pass = 0; pass < 2; pass++) /* window 1 first */
+            for (int sc = 0; sc < nscope; sc++)
+                for (int i = 0; i < c->row_count[sc][f]; i++) {
+                    const cons_row *r = &c->rows[c->row_start[sc][f] + i];
+                    if ((r->window == 1) != (pass == 0))
+                        continue;
+                    c->irows[f][c->n_irows[f]++] = (issue_row){(uint8_t)sc, r->to, r->window, r->cycles};
+                    c->n_irows1[f] += pass == 0;
+                }
     }
     c->ch = xcalloc((size_t)c->nch, sizeof *c->ch);
     for (int i = 0; i < c->nch; i++) {
@@ -850,8 +855,15 @@ static void issue(dram_ctrl *c, int chi, int cmd, int rank, int bank, uint32_t r
         int64_t *const tgt[3] = {ch->next, rk->next, banks[bank < 0 ? 0 : bank].next};
         const int64_t *const hst[2] = {ch->hist[cmd], rk->hist[cmd]};
         const issue_row *row = c->irows[cmd];
-        for (int i = 0, n = c->n_irows[cmd]; i < n; i++) {
-            const int64_t from = row[i].window == 1 ? now : hst[row[i].scope][row[i].window - 1];
+        int i = 0;
+        for (const int n1 = c->n_irows1[cmd]; i < n1; i++) {
+            const int64_t t = now + row[i].cycles;
+            int64_t *nx = &tgt[row[i].scope][row[i].to];
+            if (t > *nx)
+                *nx = t;
+        }
+        for (const int n = c->n_irows[cmd]; i < n; i++) {
+            const int64_t from = hst[row[i].scope][row[i].window - 1];
             if (from == NEVER)
                 continue;
             const int64_t t = from + row[i].cycles;

@@ -586,6 +586,14 @@ static inline int64_t class_bound(const dchan *ch, uint64_t other, uint64_t rd, 
     return class_min(ch, wr, DRAM_WR, lo);
 }
 
+/* Whether find_ready1 could return an entry of q: some class of q is ready or has
+ * capped row hits (see there); tested inline before the call. */
+static inline int may_find1(const dchan *ch, const dqueue *q, const class_ready *cr)
+{
+    return q->n && ((cr->other & q->cls_other) | ((cr->rd | ch->capped_mask) & q->cls_rd) |
+                    ((cr->wr | ch->capped_mask) & q->cls_wr)) != 0;
+}
+
 /* pick_counted's choice in q given the ready sets of class_state (which covered
  * q's classes): the first (sorted) or oldest ready entry, else the first or oldest
  * of all (ties: first in queue). A bank's entries are ready by class, so only the
@@ -1065,7 +1073,7 @@ static void chan_tick(dram_ctrl *c, int chi)
     const int shared = c->fast_scan && !c->exhaustive && mq != &ch->otherq;
     if (shared) { /* one class state for actq and the mode's queue */
         class_state(ch, q->cls_other | mq->cls_other, q->cls_rd | mq->cls_rd, q->cls_wr | mq->cls_wr, now, &cr);
-        i = q->n ? find_ready1(ch, q, 0, &cr) : -1;
+        i = may_find1(ch, q, &cr) ? find_ready1(ch, q, 0, &cr) : -1;
     } else {
         i = c->exhaustive ? pick(c, ch, q, 0, &lo) : pick_counted(c, ch, q, 0, &lo);
     }
@@ -1077,7 +1085,7 @@ static void chan_tick(dram_ctrl *c, int chi)
     if (i < 0) {
         q = mq;
         if (shared)
-            i = q->n ? find_ready1(ch, q, 1, &cr) : -1;
+            i = may_find1(ch, q, &cr) ? find_ready1(ch, q, 1, &cr) : -1;
         else
             i = c->exhaustive || q == &ch->otherq ? pick(c, ch, q, 1, &lo) : pick_counted(c, ch, q, 1, &lo);
         if (i >= 0) {

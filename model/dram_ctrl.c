@@ -810,10 +810,12 @@ static void apply_rows(const dram_ctrl *c, int scope, int cmd, int64_t *next, co
     }
 }
 
-static void hist_push(int64_t (*hist)[DRAM_MAX_WINDOW], int cmd, int depth, int64_t now)
+/* Records an issue of cmd, newest first. All entries shift, a move of constant size
+ * the compiler inlines (not a library call): those beyond the deepest window of cmd
+ * are never read. */
+static void hist_push(int64_t (*hist)[DRAM_MAX_WINDOW], int cmd, int64_t now)
 {
-    for (int w = depth - 1; w > 0; w--)
-        hist[cmd][w] = hist[cmd][w - 1];
+    memmove(&hist[cmd][1], &hist[cmd][0], (DRAM_MAX_WINDOW - 1) * sizeof hist[cmd][0]);
     hist[cmd][0] = now;
 }
 
@@ -855,9 +857,9 @@ static void issue(dram_ctrl *c, int chi, int cmd, int rank, int bank, uint32_t r
     drank *rk = &ch->ranks[rank];
     const int64_t now = c->clk;
     if (c->max_window[DRAM_SCOPE_CHANNEL][cmd] > 1)
-        hist_push(ch->hist, cmd, c->max_window[DRAM_SCOPE_CHANNEL][cmd], now);
+        hist_push(ch->hist, cmd, now);
     if (c->max_window[DRAM_SCOPE_RANK][cmd] > 1)
-        hist_push(rk->hist, cmd, c->max_window[DRAM_SCOPE_RANK][cmd], now);
+        hist_push(rk->hist, cmd, now);
     dbank *banks = &ch->banks[rank * c->nbank];
     {
         int64_t *const tgt[3] = {ch->next, rk->next, banks[bank < 0 ? 0 : bank].next};

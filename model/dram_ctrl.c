@@ -104,6 +104,7 @@ typedef struct dchan {
     int64_t sched_wake;        /* no command can issue before this cycle unless the queues or
                                   bank states change (0 = unknown: run the scheduler) */
     int64_t refreshed;         /* cycle of the last refresh injection */
+    int64_t refresh_due;       /* refreshed + refresh interval (the next injection) */
     int rd_live, wr_live;      /* reads / writes in readq, writeq or actq (not yet issued) */
     int64_t occ_upto;          /* queue_occupancy_sum covers the ticks up to this cycle: the
                                   count is constant between changes, so it is added per change
@@ -399,6 +400,7 @@ dram_ctrl *dram_ctrl_create(const dram_spec *spec, dram_done_fn done, void *user
         q_init(&ch->actq, c->nrank * c->nbank);
         q_init(&ch->otherq, 0);
         ch->pool_free = -1;
+        ch->refresh_due = spec->refresh_interval;
         ch->ranks = xcalloc((size_t)c->nrank, sizeof *ch->ranks);
         ch->banks = xcalloc((size_t)(c->nrank * c->nbank), sizeof *ch->banks);
         for (int k = 0; k < DRAM_NCMD; k++)
@@ -822,9 +824,14 @@ static void hist_push(int64_t (*hist)[DRAM_MAX_WINDOW], int cmd, int64_t now)
 /* The open row of bank bidx changed: keep the queues' per-bank hit counts exact. */
 static void bank_row_changed(dchan *ch, int bidx)
 {
-    q_recount(ch, &ch->readq, bidx);
-    q_recount(ch, &ch->writeq, bidx);
-    q_recount(ch, &ch->actq, bidx);
+    /* a queue without entries of the bank has nothing to recount (tested here: most
+     * have none, a call would cost more than the test) */
+    if (ch->readq.bc[bidx].n)
+        q_recount(ch, &ch->readq, bidx);
+    if (ch->writeq.bc[bidx].n)
+        q_recount(ch, &ch->writeq, bidx);
+    if (ch->actq.bc[bidx].n)
+        q_recount(ch, &ch->actq, bidx);
 }
 
 /* Mirrors bank bidx's open state and hit cap into the channel's masks. */
@@ -1047,7 +1054,7 @@ static void chan_tick(dram_ctrl *c, int chi)
             c->done(c->done_user, r.addr, r.tag, false, lat);
     }
     /* 2. refresh */
-    if (now - ch->refreshed >= c->spec->refresh_interval) {
+    if (now >= ch->refresh_due) {
         for (int rk = 0; rk < c->nrank; rk++) {
             dreq r = {.arrive = now, .rank = (uint16_t)rk, .bidx = (uint16_t)(rk * c->nbank), .type = REQ_REFRESH,
                       .first = 0};
@@ -1055,6 +1062,7 @@ static void chan_tick(dram_ctrl *c, int chi)
             c->pending++;
         }
         ch->refreshed = now;
+        ch->refresh_due = now + c->spec->refresh_interval;
         ch->sched_wake = 0;
     }
     /* 3. read or write mode */
@@ -1163,7 +1171,7 @@ static int64_t chan_next_event(const dram_ctrl *c, dchan *ch)
     const int64_t soon = c->clk + 1;
     if (ch->sched_wake == 0 || write_mode_next(c, ch) != ch->write_mode)
         return soon;
-    int64_t t = ch->refreshed + c->spec->refresh_interval;
+    int64_t t = ch->refresh_due;
     if (ch->pend_n && ch->pend[ch->pend_head].depart < t)
         t = ch->pend[ch->pend_head].depart;
     if (ch->sched_wake < t)
@@ -1194,7 +1202,7 @@ int64_t dram_next_event(const dram_ctrl *c)
 static int64_t chan_next_completion(const dram_ctrl *c, dchan *ch)
 {
     const int64_t soon = c->clk + 1;
-    int64_t t = ch->refreshed + c->spec->refresh_interval;
+    int64_t t = ch->refresh_due;
     if (ch->pend_n && ch->pend[ch->pend_head].depart < t)
         t = ch->pend[ch->pend_head].depart;
     if (ch->otherq.n)

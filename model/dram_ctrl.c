@@ -90,6 +90,8 @@ typedef struct drank {
 
 typedef struct dchan {
     int64_t next[DRAM_NCMD];
+    int64_t bound[DRAM_NCMD];  /* fast scan (one rank): max of next[] and rank 0's next[], the
+                                  channel/rank bound of the class scans, kept by issue() */
     int64_t hist[DRAM_NCMD][DRAM_MAX_WINDOW];
     dqueue readq, writeq, actq, otherq;
     dreq *pool;                /* entry slots of the four queues */
@@ -148,6 +150,8 @@ struct dram_ctrl {
      * first n_irows1 have a window of 1 (measured from now: no history look-up) */
     issue_row irows[DRAM_NCMD][DRAM_MAX_CONSTRAINTS];
     int n_irows[DRAM_NCMD], n_irows1[DRAM_NCMD];
+    unsigned bound_mask[DRAM_NCMD]; /* per FROM command, the TO commands of its channel and
+                                       rank rows (the bound[] entries it can raise) */
 };
 
 static void *xcalloc(size_t n, size_t sz)
@@ -390,6 +394,8 @@ dram_ctrl *dram_ctrl_create(const dram_spec *spec, dram_done_fn done, void *user
                         continue;
                     c->irows[f][c->n_irows[f]++] = (issue_row){(uint8_t)sc, r->to, r->window, r->cycles};
                     c->n_irows1[f] += pass == 0;
+                    if (sc != DRAM_SCOPE_BANK)
+                        c->bound_mask[f] |= 1u << r->to;
                 }
     }
     c->ch = xcalloc((size_t)c->nch, sizeof *c->ch);
@@ -539,7 +545,7 @@ typedef struct class_ready {
  * while the channel/rank bound is later, without looking at the banks). */
 static inline uint64_t class_scan(const dchan *ch, uint64_t bits, int cmd, int64_t now)
 {
-    if (!bits || max64(ch->next[cmd], ch->ranks[0].next[cmd]) > now)
+    if (!bits || ch->bound[cmd] > now)
         return 0;
     uint64_t rdy = 0;
     for (; bits; bits &= bits - 1) {
@@ -560,7 +566,7 @@ static inline int64_t class_min(const dchan *ch, uint64_t bits, int cmd, int64_t
         const int64_t x = ch->banks[__builtin_ctzll(bits)].next[cmd];
         mn = x < mn ? x : mn;
     }
-    const int64_t e = max64(max64(ch->next[cmd], ch->ranks[0].next[cmd]), mn);
+    const int64_t e = max64(ch->bound[cmd], mn);
     return e < lo ? e : lo;
 }
 
@@ -889,6 +895,11 @@ static void issue(dram_ctrl *c, int chi, int cmd, int rank, int bank, uint32_t r
                 *nx = t;
         }
     }
+    if (c->fast_scan) /* one rank: rk is rank 0 */
+        for (unsigned m = c->bound_mask[cmd]; m; m &= m - 1) {
+            const int k = __builtin_ctz(m);
+            ch->bound[k] = max64(ch->next[k], rk->next[k]);
+        }
     if (dram_cmd_is_bank_scoped(cmd)) {
         if (c->row_count[DRAM_SCOPE_SIBLING][cmd])
             for (int b = 0; b < c->nbank; b++)

@@ -840,24 +840,32 @@ static void bank_row_changed(dchan *ch, int bidx)
         q_recount(ch, &ch->actq, bidx);
 }
 
-/* Mirrors bank bidx's open state and hit cap into the channel's masks. */
-static inline void bank_bits(const dram_ctrl *c, dchan *ch, int bidx)
+/* Mirror bank bidx's open state and hit cap into the channel's masks (banks 0..63):
+ * a bank opened (no hits yet: the cap is >= 0) or closed. RD/WR raise the hits and
+ * set the capped bit themselves. */
+static inline void bank_opened(dchan *ch, int bidx)
 {
     if (bidx >= 64)
         return;
-    const dbank *b = &ch->banks[bidx];
-    const uint64_t bit = 1ull << bidx;
-    ch->open_mask = b->open_row >= 0 ? ch->open_mask | bit : ch->open_mask & ~bit;
-    ch->capped_mask = b->hits > c->spec->row_hit_cap ? ch->capped_mask | bit : ch->capped_mask & ~bit;
+    ch->open_mask |= 1ull << bidx;
+    ch->capped_mask &= ~(1ull << bidx);
 }
 
-static void close_bank(const dram_ctrl *c, dchan *ch, drank *rk, dbank *b, int64_t now)
+static inline void bank_closed(dchan *ch, int bidx)
+{
+    if (bidx >= 64)
+        return;
+    ch->open_mask &= ~(1ull << bidx);
+    ch->capped_mask &= ~(1ull << bidx);
+}
+
+static void close_bank(dchan *ch, drank *rk, dbank *b, int64_t now)
 {
     if (b->open_row < 0)
         return;
     b->open_row = -1;
     b->hits = 0;
-    bank_bits(c, ch, (int)(b - ch->banks));
+    bank_closed(ch, (int)(b - ch->banks));
     bank_row_changed(ch, (int)(b - ch->banks));
     ch->st.n_pre_banks++;
     if (--rk->nopen == 0)
@@ -910,22 +918,22 @@ static void issue(dram_ctrl *c, int chi, int cmd, int rank, int bank, uint32_t r
     case DRAM_ACT:
         banks[bank].open_row = (int32_t)row;
         banks[bank].hits = 0;
-        bank_bits(c, ch, rank * c->nbank + bank);
+        bank_opened(ch, rank * c->nbank + bank);
         bank_row_changed(ch, rank * c->nbank + bank);
         if (rk->nopen++ == 0)
             rk->open_since = now;
         break;
     case DRAM_PRE:
-        close_bank(c, ch, rk, &banks[bank], now);
+        close_bank(ch, rk, &banks[bank], now);
         break;
     case DRAM_PREA:
         for (int b = 0; b < c->nbank; b++)
-            close_bank(c, ch, rk, &banks[b], now);
+            close_bank(ch, rk, &banks[b], now);
         break;
     case DRAM_RD:
     case DRAM_WR:
-        banks[bank].hits++;
-        bank_bits(c, ch, rank * c->nbank + bank);
+        if (++banks[bank].hits > c->spec->row_hit_cap && rank * c->nbank + bank < 64)
+            ch->capped_mask |= 1ull << (rank * c->nbank + bank);
         break;
     default:
         break;

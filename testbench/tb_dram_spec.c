@@ -218,6 +218,25 @@ int main(void)
     }
     tb_end();
 
+    /* NaN is not below nor above any range: it used to pass the range check
+     * (found by cppcheck; energy then printed "nan uJ") */
+    tb_begin("dram_power_spec_rejects_nan");
+    {
+        static const char *const texts[] = {"[memspec]\nclk_mhz = 800\nvdd1 = nan\n",
+                                            "[memspec]\nclk_mhz = 800\nidd0 = -NaN\n",
+                                            "[memspec]\nclk_mhz = 800\nnRAS = nan\n"};
+        static const char *const keys[] = {"vdd1", "idd0", "nRAS"};
+        for (int i = 0; i < 3; i++) {
+            const char *path = temp_file(texts[i]);
+            dram_power_spec q;
+            TB_CHECK(path && dram_power_spec_load(&q, path, err, sizeof err) != 0, "%s accepted", keys[i]);
+            TB_CHECK(strstr(err, ":3:") && strstr(err, keys[i]) && strstr(err, "allowed"), "message '%s'", err);
+            if (path)
+                unlink(path);
+        }
+    }
+    tb_end();
+
     tb_begin("dram_spec_missing_file");
     TB_CHECK(dram_spec_load(&spec, "no/such/file.ini", NULL, 0, err, sizeof err) != 0, "accepted");
     TB_CHECK(strstr(err, "no/such/file.ini") != NULL, "message '%s'", err);

@@ -394,7 +394,8 @@ int dram_spec_load(dram_spec *spec, const char *path, const char *const *sets, i
         long v;
         if (eval(&L, spec, spec->nparams, e, 0, 10000000, &v))
             return -1;
-        snprintf(spec->param_name[spec->nparams], DRAM_NAME_LEN, "%s", k);
+        /* the precision states the length checked above (gcc -O0 cannot see it: -Wformat-truncation) */
+        snprintf(spec->param_name[spec->nparams], DRAM_NAME_LEN, "%.*s", DRAM_NAME_LEN - 1, k);
         spec->param_value[spec->nparams++] = (int)v;
     }
     /* pass 2: everything else */
@@ -423,7 +424,9 @@ int dram_spec_load(dram_spec *spec, const char *path, const char *const *sets, i
             continue;
         }
         if (strcmp(e->section, "controller") == 0 && strcmp(e->key, "mapping") == 0) {
-            snprintf(spec->mapping, sizeof spec->mapping, "%s", e->value);
+            /* a longer value cannot be valid (dram_addrmap wants 10 characters): cut it, the
+             * mapping check rejects it (explicit precision: -Wformat-truncation at -O0) */
+            snprintf(spec->mapping, sizeof spec->mapping, "%.*s", (int)sizeof spec->mapping - 1, e->value);
             have_mapping = 1;
             continue;
         }

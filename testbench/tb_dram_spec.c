@@ -130,6 +130,9 @@ int main(void)
     expect_error("dram_spec_set_no_equals", "timing.nCL", "expected section.key=value", NULL);
     expect_error("dram_spec_set_non_pow2_banks", "organization.banks=6", "powers of two", NULL);
     expect_error("dram_spec_set_bad_mapping", "controller.mapping=RoBaCoCh", "mapping", NULL);
+    /* longer than the spec's 32-byte fields: cut when copied, rejected all the same */
+    expect_error("dram_spec_set_overlong_mapping", "controller.mapping=RoBaRaCoChRoBaRaCoChRoBaRaCoChRoBaRaCoCh",
+                 "mapping", "invalid");
 
     expect_file_error("dram_spec_file_syntax_error", mini("this line is not ini\n"), ":12:", "syntax");
     expect_file_error("dram_spec_file_unknown_key", mini("[controller]\nbogus_key = 1\n"), ":13:", "bogus_key");
@@ -142,6 +145,8 @@ int main(void)
     expect_file_error("dram_spec_file_unknown_name", mini("[constraints]\nrank RD -> WR = nXYZ + 1\n"), ":13:",
                       "unknown name 'nXYZ'");
     expect_file_error("dram_spec_file_missing_key", MINI_HEAD, "missing key", "[controller]");
+    expect_file_error("dram_spec_file_overlong_name", mini("nABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 = 3\n"), ":12:",
+                      "must be an identifier");
 
     tb_begin("dram_addrmap_robaracoch");
     if (TB_CHECK(dram_spec_load(&spec, CFG, NULL, 0, err, sizeof err) == 0, "%s", err)) {

@@ -167,8 +167,11 @@ static inline void q_count(dqueue *q, const dbank *banks, const dreq *r, int d)
         q->used[r->bidx >> 6] |= bit;
     else
         q->used[r->bidx >> 6] &= ~bit;
+    /* counted queues hold reads and writes only (refreshes go to the uncounted
+     * otherq); indexing by the comparison lets gcc -O3 see that hit[] is not
+     * overrun where it inlines the refresh push (-Warray-bounds) */
     if (banks[r->bidx].open_row >= 0 && (uint32_t)banks[r->bidx].open_row == r->row)
-        k->hit[r->type] = (uint16_t)(k->hit[r->type] + d);
+        k->hit[r->type == REQ_WRITE] = (uint16_t)(k->hit[r->type == REQ_WRITE] + d);
     q_class_bits(q, r->bidx);
 }
 

@@ -71,6 +71,10 @@ int main(int argc, char **argv)
         {0, 0, 0, 0}};
     const char *config = NULL, *power = NULL, *cmd_trace = NULL;
     const char **sets = calloc((size_t)argc, sizeof *sets);
+    if (!sets) {
+        fprintf(stderr, "rtdram: out of memory\n");
+        return 1;
+    }
     int nsets = 0, json = 0, check = 0, exhaustive = 0, kernel = 0, o;
     while ((o = getopt_long(argc, argv, "", opts, NULL)) != -1) {
         switch (o) {

@@ -133,9 +133,15 @@ int main(int argc, char **argv)
     if (c)
         dram_set_exhaustive(c, exhaustive);
     sink sk = {0};
-    char tmp[1100];
+    char tmp[4200];   /* PATH_MAX (4096) and the suffix */
     if (cmd_trace) {
-        snprintf(tmp, sizeof tmp, "%s.tmp.%ld", cmd_trace, (long)getpid());
+        /* a cut name is another file: it was opened, overwritten and renamed away */
+        if (snprintf(tmp, sizeof tmp, "%s.tmp.%ld", cmd_trace, (long)getpid()) >= (int)sizeof tmp) {
+            fprintf(stderr, "rtdram: --cmd-trace %.64s...: path too long\n", cmd_trace);
+            fclose(tf);
+            dram_ctrl_destroy(c);
+            return 2;
+        }
         sk.f = fopen(tmp, "w");
         if (!sk.f) {
             fprintf(stderr, "rtdram: %s: cannot write\n", tmp);

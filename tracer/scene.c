@@ -45,10 +45,12 @@ static bool path_beside(const char *base, const char *name, char *out, size_t n)
     return len >= 0 && (size_t)len < n;
 }
 
+/* The file name of path into out[n] (n > 1; a name has at most NAME_MAX =
+ * 255 bytes; the precision tells gcc -O3 so: -Wformat-truncation). */
 static void base_name(const char *path, char *out, size_t n)
 {
     const char *slash = strrchr(path, '/');
-    snprintf(out, n, "%s", slash ? slash + 1 : path);
+    snprintf(out, n, "%.*s", (int)n - 1, slash ? slash + 1 : path);
 }
 
 /* One view framing the bounding sphere from the +Z side, slightly above,
@@ -80,7 +82,8 @@ static bool load_geometry(const char *what, rt_scene *s, char *err, size_t errle
 {
     const char *name = strncmp(what, "builtin:", 8) == 0 ? what + 8 : what;
     if (rt_builtin_exists(name) || name != what) {
-        snprintf(s->name, sizeof s->name, "%s", name);
+        /* built-in names are short; a longer one is rejected by rt_builtin_generate */
+        snprintf(s->name, sizeof s->name, "%.*s", (int)sizeof s->name - 1, name);
         return rt_builtin_generate(name, &s->mesh, &s->views, err, errlen);
     }
     if (!is_obj(what) && !is_ply(what)) {

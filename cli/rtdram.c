@@ -99,15 +99,25 @@ int main(int argc, char **argv)
     }
     const char *trace = argv[optind];
     const char *dir = getenv("RTSIM_DATA_DIR") ? getenv("RTSIM_DATA_DIR") : RTSIM_DATA_DIR;
-    char cfg_buf[1024], pow_buf[1024], err[600];
+    /* PATH_MAX (4096) and more: a cut default path would name another file */
+    char cfg_buf[4200], pow_buf[4200], err[600];
     if (!config) {
-        snprintf(cfg_buf, sizeof cfg_buf, "%s/lpddr3_1600.ini", dir);
+        if (snprintf(cfg_buf, sizeof cfg_buf, "%s/lpddr3_1600.ini", dir) >= (int)sizeof cfg_buf) {
+            fprintf(stderr, "rtdram: RTSIM_DATA_DIR %.64s...: path too long\n", dir);
+            free(sets);
+            return 2;
+        }
         config = cfg_buf;
     }
     if (!power) {
         const char *slash = strrchr(config, '/');
         int n = slash ? (int)(slash - config) : 1;
-        snprintf(pow_buf, sizeof pow_buf, "%.*s/lpddr3_1600_idd.ini", n, slash ? config : ".");
+        if (snprintf(pow_buf, sizeof pow_buf, "%.*s/lpddr3_1600_idd.ini", n, slash ? config : ".") >=
+            (int)sizeof pow_buf) {
+            fprintf(stderr, "rtdram: --config %.64s...: path too long\n", config);
+            free(sets);
+            return 2;
+        }
         power = pow_buf;
     }
     static dram_spec spec;

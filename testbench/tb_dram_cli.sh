@@ -73,6 +73,15 @@ if [ $rc = 0 ] && [ "$(cat "$tmp/victim.txt" 2>/dev/null)" = "keep me" ] && cmp 
 else
   fail dram_cli_cmd_trace_long_path "exit $rc; victim.txt: '$(head -c 40 "$tmp/victim.txt" 2>/dev/null)'"
 fi
+# the power file beside a long --config path: its name was cut at 1023 characters
+mkdir -p "$tmp/cfgdir"; cp model/data/lpddr3_1600.ini model/data/lpddr3_1600_idd.ini "$tmp/cfgdir/"
+long_cfg="$tmp/$(printf './%.0s' $(seq 600))cfgdir/lpddr3_1600.ini"
+out=$("$bin" "$tmp/m3.trace" --json --config "$long_cfg" 2>&1); rc=$?
+if [ $rc = 0 ] && [ "$out" = "$("$bin" "$tmp/m3.trace" --json 2>&1)" ]; then
+  pass dram_cli_config_long_path
+else
+  fail dram_cli_config_long_path "exit $rc: $(echo "$out" | head -c 200)"
+fi
 rm -f "$tmp/bad.cmd"
 "$bin" "$tmp/bad_rw.trace" --cmd-trace "$tmp/bad.cmd" >/dev/null 2>&1
 if [ ! -e "$tmp/bad.cmd" ] && [ -z "$(ls "$tmp" | grep '\.tmp\.')" ]; then pass dram_cli_no_partial_output

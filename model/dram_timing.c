@@ -264,15 +264,29 @@ static int parse_constraint_key(const char *key, dram_constraint *c, char *why, 
     }
     const char *rest = key + consumed;
     if (*rest) {
+        /* strtol, not sscanf's %d: that has no defined result when N does not
+         * fit an int (glibc wraps it: "window 4294967300" was taken as 4) */
         int c2 = 0;
-        if (sscanf(rest, "%15s %d %n", wword, &window, &c2) != 2 || strcmp(wword, "window") != 0 || rest[c2]) {
+        long w = 0;
+        char *end = NULL;
+        if (sscanf(rest, "%15s %n", wword, &c2) == 1 && strcmp(wword, "window") == 0) {
+            errno = 0;
+            w = strtol(rest + c2, &end, 10);
+            if (end == rest + c2)
+                end = NULL;
+            else
+                while (isspace((unsigned char)*end))
+                    end++;
+        }
+        if (!end || *end) {
             snprintf(why, n, "trailing text '%s' (only 'window N' allowed)", rest);
             return -1;
         }
-        if (window < 1 || window > DRAM_MAX_WINDOW) {
-            snprintf(why, n, "window %d out of range, allowed 1..%d", window, DRAM_MAX_WINDOW);
+        if (errno || w < 1 || w > DRAM_MAX_WINDOW) {
+            snprintf(why, n, "window %.20s out of range, allowed 1..%d", rest + c2, DRAM_MAX_WINDOW);
             return -1;
         }
+        window = (int)w;
     }
     int s = -1;
     for (int i = 0; i < DRAM_NSCOPE; i++)

@@ -145,6 +145,13 @@ int main(void)
     expect_file_error("dram_spec_file_unknown_name", mini("[constraints]\nrank RD -> WR = nXYZ + 1\n"), ":13:",
                       "unknown name 'nXYZ'");
     expect_file_error("dram_spec_file_missing_key", MINI_HEAD, "missing key", "[controller]");
+    /* sscanf's %d wrapped it (2^32 + 4 -> 4) */
+    expect_file_error("dram_spec_file_window_beyond_int", mini("[constraints]\nrank ACT -> ACT window 4294967300 = 9\n"),
+                      ":13:", "window 4294967300 out of range");
+    expect_file_error("dram_spec_file_window_zero", mini("[constraints]\nrank ACT -> ACT window 0 = 9\n"), ":13:",
+                      "allowed 1..");
+    expect_file_error("dram_spec_file_window_not_number", mini("[constraints]\nrank ACT -> ACT window x4 = 9\n"),
+                      ":13:", "only 'window N'");
     expect_file_error("dram_spec_file_overlong_name", mini("nABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 = 3\n"), ":12:",
                       "must be an identifier");
 

@@ -22,6 +22,14 @@ static inline bool cli_output_path_ok(const char *opt, const char *path, char *e
         return false;
     }
     char dir[4096];
+    /* room for the temporary name "PATH.tmp.PID" within PATH_MAX (4096); a
+     * longer path's folder was cut below, and checking the cut folder let
+     * the path pass until the run ended with "cannot create" */
+    const size_t max_len = sizeof dir - 17;
+    if (strlen(path) > max_len) {
+        snprintf(err, errlen, "%s %.64s...: path longer than %zu characters", opt, path, max_len);
+        return false;
+    }
     const char *slash = strrchr(path, '/');
     if (slash)
         snprintf(dir, sizeof dir, "%.*s", (int)(slash - path) ? (int)(slash - path) : 1, path);

@@ -71,6 +71,10 @@ int main(int argc, char **argv)
         {0, 0, 0, 0}};
     const char *config = NULL, *power = NULL, *cmd_trace = NULL;
     const char **sets = calloc((size_t)argc, sizeof *sets);
+    if (!sets) {
+        fprintf(stderr, "rtdram: out of memory\n");
+        return 1;
+    }
     int nsets = 0, json = 0, check = 0, exhaustive = 0, kernel = 0, o;
     while ((o = getopt_long(argc, argv, "", opts, NULL)) != -1) {
         switch (o) {
@@ -95,15 +99,25 @@ int main(int argc, char **argv)
     }
     const char *trace = argv[optind];
     const char *dir = getenv("RTSIM_DATA_DIR") ? getenv("RTSIM_DATA_DIR") : RTSIM_DATA_DIR;
-    char cfg_buf[1024], pow_buf[1024], err[600];
+    /* PATH_MAX (4096) and more: a cut default path would name another file */
+    char cfg_buf[4200], pow_buf[4200], err[600];
     if (!config) {
-        snprintf(cfg_buf, sizeof cfg_buf, "%s/lpddr3_1600.ini", dir);
+        if (snprintf(cfg_buf, sizeof cfg_buf, "%s/lpddr3_1600.ini", dir) >= (int)sizeof cfg_buf) {
+            fprintf(stderr, "rtdram: RTSIM_DATA_DIR %.64s...: path too long\n", dir);
+            free(sets);
+            return 2;
+        }
         config = cfg_buf;
     }
     if (!power) {
         const char *slash = strrchr(config, '/');
         int n = slash ? (int)(slash - config) : 1;
-        snprintf(pow_buf, sizeof pow_buf, "%.*s/lpddr3_1600_idd.ini", n, slash ? config : ".");
+        if (snprintf(pow_buf, sizeof pow_buf, "%.*s/lpddr3_1600_idd.ini", n, slash ? config : ".") >=
+            (int)sizeof pow_buf) {
+            fprintf(stderr, "rtdram: --config %.64s...: path too long\n", config);
+            free(sets);
+            return 2;
+        }
         power = pow_buf;
     }
     static dram_spec spec;
@@ -129,9 +143,15 @@ int main(int argc, char **argv)
     if (c)
         dram_set_exhaustive(c, exhaustive);
     sink sk = {0};
-    char tmp[1100];
+    char tmp[4200];   /* PATH_MAX (4096) and the suffix */
     if (cmd_trace) {
-        snprintf(tmp, sizeof tmp, "%s.tmp.%ld", cmd_trace, (long)getpid());
+        /* a cut name is another file: it was opened, overwritten and renamed away */
+        if (snprintf(tmp, sizeof tmp, "%s.tmp.%ld", cmd_trace, (long)getpid()) >= (int)sizeof tmp) {
+            fprintf(stderr, "rtdram: --cmd-trace %.64s...: path too long\n", cmd_trace);
+            fclose(tf);
+            dram_ctrl_destroy(c);
+            return 2;
+        }
         sk.f = fopen(tmp, "w");
         if (!sk.f) {
             fprintf(stderr, "rtdram: %s: cannot write\n", tmp);

@@ -210,27 +210,6 @@ uint64_t dram_checker_violations(const dram_checker *k) { return k->violations; 
 uint64_t dram_checker_commands(const dram_checker *k) { return k->commands; }
 const char *dram_checker_first(const dram_checker *k) { return k->first; }
 
-int dram_cmd_parse_line(const char *line, dram_cmd_rec *rec)
-{
-    while (*line == ' ' || *line == '\t')
-        line++;
-    if (*line == '#' || *line == 0 || *line == '\n' || *line == '\r')
-        return 0;
-    long long cyc;
-    int ch, rk, bk, row, n = 0;
-    char name[8];
-    if (sscanf(line, "%lld,%d,%d,%d,%7[A-Z],%d%n", &cyc, &ch, &rk, &bk, name, &row, &n) != 6)
-        return -1;
-    line += n;
-    while (*line == ' ' || *line == '\r' || *line == '\n')
-        line++;
-    int cmd = dram_cmd_from_name(name);
-    if (*line || cmd < 0)
-        return -1;
-    *rec = (dram_cmd_rec){cyc, ch, rk, bk, row, cmd};
-    return 1;
-}
-
 void dram_cmd_format(const dram_cmd_rec *r, char *buf, size_t n)
 {
     snprintf(buf, n, "%lld,%d,%d,%d,%s,%d\n", (long long)r->cycle, r->channel, r->rank, r->bank,

@@ -33,9 +33,8 @@ uint64_t dram_checker_commands(const dram_checker *k);
 const char *dram_checker_first(const dram_checker *k);
 
 /* Command stream file format (rtdram --cmd-trace): a "#" header line, then
- * "cycle,channel,rank,bank,CMD,row" per command (bank/row -1 when not applicable).
- * Parses one line: 1 command, 0 comment/blank, -1 malformed. */
-int dram_cmd_parse_line(const char *line, dram_cmd_rec *rec);
+ * "cycle,channel,rank,bank,CMD,row" per command (bank/row -1 when not applicable),
+ * one line as formatted by dram_cmd_format. */
 void dram_cmd_format(const dram_cmd_rec *rec, char *buf, size_t n);
 
 #endif

@@ -28,7 +28,7 @@ typedef struct dreq {
 
 /* Request classes of a bank's entries: the entries of a class share their next
  * command (ACT if the bank is closed, PRE if another row is open; RD; WR). */
-enum { CLS_OTHER, CLS_RD, CLS_WR }; /* CLS_RD + type is the class of a row hit */
+enum { CLS_OTHER, CLS_RD, CLS_WR };
 
 /* A request queue. Read, write and act queues also keep, per bank, how many
  * entries target it and how many of them fall in each class, so the scheduler
@@ -230,7 +230,7 @@ static void q_recount(dchan *ch, dqueue *q, int bidx)
         k->cnt[CLS_OTHER] = k->cnt[CLS_RD] = k->cnt[CLS_WR] = 0;
         for (int s = q->bhead[bidx]; s >= 0; s = pool[s].bnext) {
             dreq *r = &pool[s];
-            r->cls = r->row == row ? (uint8_t)(CLS_RD + r->type) : (uint8_t)CLS_OTHER;
+            r->cls = r->row == row ? (uint8_t)(r->type == REQ_WRITE ? CLS_WR : CLS_RD) : (uint8_t)CLS_OTHER;
             k->cnt[r->cls]++;
         }
     } else if (had_hits) { /* closed: only former hits have a class to reset */
@@ -283,7 +283,11 @@ static void q_link(dchan *ch, dqueue *q, int s)
     if (!q->bc)
         return;
     const dbank *b = &ch->banks[r->bidx];
-    r->cls = b->open_row >= 0 && (uint32_t)b->open_row == r->row ? (uint8_t)(CLS_RD + r->type) : (uint8_t)CLS_OTHER;
+    /* counted queues hold reads and writes only; the class picked by a comparison
+     * (not CLS_RD + type) lets gcc -O3 see cnt[] is not overrun where it inlines
+     * the refresh push (-Warray-bounds) */
+    r->cls = b->open_row >= 0 && (uint32_t)b->open_row == r->row ? (uint8_t)(r->type == REQ_WRITE ? CLS_WR : CLS_RD)
+                                                                 : (uint8_t)CLS_OTHER;
     q_count(q, r, +1);
     const int bt = q->btail[r->bidx];
     r->bprev = bt;

@@ -59,7 +59,8 @@ static int phandler(void *user, const char *section, const char *name, const cha
         char *end;
         errno = 0;
         double v = strtod(value, &end);
-        if (errno || end == value || *end || v < pkeys[i].lo || v > pkeys[i].hi ||
+        /* !(in range) rather than (below || above): NaN compares false both ways */
+        if (errno || end == value || *end || !(v >= pkeys[i].lo && v <= pkeys[i].hi) ||
             (pkeys[i].is_int && v != (double)(long)v)) {
             snprintf(L->err, L->errlen, "%s:%d: %s = '%s' invalid, allowed %s %g..%g", L->path, L->line, name, value,
                      pkeys[i].is_int ? "integer" : "number", pkeys[i].lo, pkeys[i].hi);

@@ -264,15 +264,29 @@ static int parse_constraint_key(const char *key, dram_constraint *c, char *why, 
     }
     const char *rest = key + consumed;
     if (*rest) {
+        /* strtol, not sscanf's %d: that has no defined result when N does not
+         * fit an int (glibc wraps it: "window 4294967300" was taken as 4) */
         int c2 = 0;
-        if (sscanf(rest, "%15s %d %n", wword, &window, &c2) != 2 || strcmp(wword, "window") != 0 || rest[c2]) {
+        long w = 0;
+        char *end = NULL;
+        if (sscanf(rest, "%15s %n", wword, &c2) == 1 && strcmp(wword, "window") == 0) {
+            errno = 0;
+            w = strtol(rest + c2, &end, 10);
+            if (end == rest + c2)
+                end = NULL;
+            else
+                while (isspace((unsigned char)*end))
+                    end++;
+        }
+        if (!end || *end) {
             snprintf(why, n, "trailing text '%s' (only 'window N' allowed)", rest);
             return -1;
         }
-        if (window < 1 || window > DRAM_MAX_WINDOW) {
-            snprintf(why, n, "window %d out of range, allowed 1..%d", window, DRAM_MAX_WINDOW);
+        if (errno || w < 1 || w > DRAM_MAX_WINDOW) {
+            snprintf(why, n, "window %.20s out of range, allowed 1..%d", rest + c2, DRAM_MAX_WINDOW);
             return -1;
         }
+        window = (int)w;
     }
     int s = -1;
     for (int i = 0; i < DRAM_NSCOPE; i++)
@@ -394,7 +408,8 @@ int dram_spec_load(dram_spec *spec, const char *path, const char *const *sets, i
         long v;
         if (eval(&L, spec, spec->nparams, e, 0, 10000000, &v))
             return -1;
-        snprintf(spec->param_name[spec->nparams], DRAM_NAME_LEN, "%s", k);
+        /* the precision states the length checked above (gcc -O0 cannot see it: -Wformat-truncation) */
+        snprintf(spec->param_name[spec->nparams], DRAM_NAME_LEN, "%.*s", DRAM_NAME_LEN - 1, k);
         spec->param_value[spec->nparams++] = (int)v;
     }
     /* pass 2: everything else */
@@ -423,7 +438,9 @@ int dram_spec_load(dram_spec *spec, const char *path, const char *const *sets, i
             continue;
         }
         if (strcmp(e->section, "controller") == 0 && strcmp(e->key, "mapping") == 0) {
-            snprintf(spec->mapping, sizeof spec->mapping, "%s", e->value);
+            /* a longer value cannot be valid (dram_addrmap wants 10 characters): cut it, the
+             * mapping check rejects it (explicit precision: -Wformat-truncation at -O0) */
+            snprintf(spec->mapping, sizeof spec->mapping, "%.*s", (int)sizeof spec->mapping - 1, e->value);
             have_mapping = 1;
             continue;
         }

@@ -37,6 +37,9 @@ typedef struct requester {
     uint64_t probes;
 } requester;
 
+/* About 1.8 MB (9 requesters of 32 streams): the tests keep theirs static,
+ * as on the stack clang's ASan build (-O1 inlines every test into main, no
+ * frame reuse) overflowed the 8 MB stack. */
 typedef struct bench {
     ks_sim *sim;
     ks_clock *clk;
@@ -143,7 +146,7 @@ static const char *const unlimited_bw[] = {"memory.model=fixed", "memory.fixed_b
 static void test_fill_path_latency(void)
 {
     tb_begin("fill_path_l1_l2_memory_and_l2_hit");
-    bench b;
+    static bench b;   /* 1.8 MB: see bench */
     if (bench_init(&b, "mbvh4", unlimited_bw, 2, false)) {
         requester *r0 = add_requester(&b, memsys_node_l1(b.ms, 0), 128);
         requester *r1 = add_requester(&b, memsys_node_l1(b.ms, 1), 128);
@@ -184,7 +187,7 @@ static void test_fill_path_latency(void)
 static void test_l2_merge_and_fairness(void)
 {
     tb_begin("l2_merges_l1_misses_and_arbiter_is_fair");
-    bench b;
+    static bench b;   /* 1.8 MB: see bench */
     if (bench_init(&b, "bvh2", unlimited_bw, 4, false)) {
         requester *r[4];
         for (int i = 0; i < 4; i++) {
@@ -228,7 +231,7 @@ static void test_tiny_resources(const char *model)
                           "fifo.mem_req=1", "fifo.mem_resp=1", "fifo.mem_dram_req=1", "fifo.mem_dram_resp=1",
                           "node_l1.mshrs=1", "node_l2.mshrs=1", "prim.mshrs=1", "node_l2.mshr_merge=1",
                           "memory.max_outstanding=1", NULL};
-    bench b;
+    static bench b;   /* 1.8 MB: see bench */
     if (bench_init(&b, "bvh2", sets, 4, false)) {
         for (int i = 0; i < 4; i++) {
             requester *r = add_requester(&b, memsys_node_l1(b.ms, i), 64);
@@ -254,7 +257,7 @@ static void test_tiny_resources(const char *model)
 static void test_bandwidth(void)
 {
     tb_begin("fixed_memory_bandwidth_bounds_streaming");
-    bench b;
+    static bench b;   /* 1.8 MB: see bench */
     const char *sets[] = {"memory.model=fixed", "memory.fixed_latency=20", "prim.mshrs=64", NULL};
     if (bench_init(&b, "mbvh4", sets, 1, false)) {
         /* one IST with 32 rays in flight, each reading 12 triangles of its own */
@@ -294,7 +297,7 @@ static void test_idle_skipping_equivalence(const char *model)
     snprintf(set, sizeof set, "memory.model=%s", model);
     const char *sets[] = {set, NULL};
     for (int mode = 0; mode < 2; mode++) {
-        bench b;
+        static bench b;   /* 1.8 MB: see bench */
         if (!bench_init(&b, "mbvh4", sets, 4, mode == 1))
             break;
         /* only the accelerator clock (our units) steps exhaustively: the DRAM
@@ -373,7 +376,7 @@ static void test_build_errors_and_tables(void)
 static void test_lpddr3(void)
 {
     tb_begin("lpddr3_memory_streams_within_peak_bandwidth");
-    bench b;
+    static bench b;   /* 1.8 MB: see bench */
     const char *sets[] = {"memory.model=lpddr3", "prim.mshrs=64", NULL};
     if (bench_init(&b, "mbvh4", sets, 1, false)) {
         TB_CHECK(memsys_dram_port(b.ms) != NULL, "port built");

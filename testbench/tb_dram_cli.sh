@@ -61,6 +61,27 @@ if [ -f "$tmp/m3.cmd" ] && [ "$(grep -vc '^#' "$tmp/m3.cmd")" = 5 ] && grep -q '
 else
   fail dram_cli_cmd_trace "$(cat "$tmp/m3.cmd" 2>/dev/null | tr '\n' ' ')"
 fi
+# a long --cmd-trace path: its temporary name was cut at 1099 characters,
+# which here named victim.txt beside it: overwritten, then renamed away
+pad=$((1089 - ${#tmp} - 1)); prefix="$tmp/"
+if [ $((pad % 2)) = 1 ]; then prefix="$prefix/"; pad=$((pad - 1)); fi
+prefix="$prefix$(printf './%.0s' $(seq $((pad / 2))))"
+echo "keep me" > "$tmp/victim.txt"
+"$bin" "$tmp/m3.trace" --cmd-trace "${prefix}victim.txt.long" >/dev/null 2>&1; rc=$?
+if [ $rc = 0 ] && [ "$(cat "$tmp/victim.txt" 2>/dev/null)" = "keep me" ] && cmp -s "$tmp/victim.txt.long" "$tmp/m3.cmd"; then
+  pass dram_cli_cmd_trace_long_path
+else
+  fail dram_cli_cmd_trace_long_path "exit $rc; victim.txt: '$(head -c 40 "$tmp/victim.txt" 2>/dev/null)'"
+fi
+# the power file beside a long --config path: its name was cut at 1023 characters
+mkdir -p "$tmp/cfgdir"; cp model/data/lpddr3_1600.ini model/data/lpddr3_1600_idd.ini "$tmp/cfgdir/"
+long_cfg="$tmp/$(printf './%.0s' $(seq 600))cfgdir/lpddr3_1600.ini"
+out=$("$bin" "$tmp/m3.trace" --json --config "$long_cfg" 2>&1); rc=$?
+if [ $rc = 0 ] && [ "$out" = "$("$bin" "$tmp/m3.trace" --json 2>&1)" ]; then
+  pass dram_cli_config_long_path
+else
+  fail dram_cli_config_long_path "exit $rc: $(echo "$out" | head -c 200)"
+fi
 rm -f "$tmp/bad.cmd"
 "$bin" "$tmp/bad_rw.trace" --cmd-trace "$tmp/bad.cmd" >/dev/null 2>&1
 if [ ! -e "$tmp/bad.cmd" ] && [ -z "$(ls "$tmp" | grep '\.tmp\.')" ]; then pass dram_cli_no_partial_output

@@ -130,6 +130,9 @@ int main(void)
     expect_error("dram_spec_set_no_equals", "timing.nCL", "expected section.key=value", NULL);
     expect_error("dram_spec_set_non_pow2_banks", "organization.banks=6", "powers of two", NULL);
     expect_error("dram_spec_set_bad_mapping", "controller.mapping=RoBaCoCh", "mapping", NULL);
+    /* longer than the spec's 32-byte fields: cut when copied, rejected all the same */
+    expect_error("dram_spec_set_overlong_mapping", "controller.mapping=RoBaRaCoChRoBaRaCoChRoBaRaCoChRoBaRaCoCh",
+                 "mapping", "invalid");
 
     expect_file_error("dram_spec_file_syntax_error", mini("this line is not ini\n"), ":12:", "syntax");
     expect_file_error("dram_spec_file_unknown_key", mini("[controller]\nbogus_key = 1\n"), ":13:", "bogus_key");
@@ -142,6 +145,15 @@ int main(void)
     expect_file_error("dram_spec_file_unknown_name", mini("[constraints]\nrank RD -> WR = nXYZ + 1\n"), ":13:",
                       "unknown name 'nXYZ'");
     expect_file_error("dram_spec_file_missing_key", MINI_HEAD, "missing key", "[controller]");
+    /* sscanf's %d wrapped it (2^32 + 4 -> 4) */
+    expect_file_error("dram_spec_file_window_beyond_int", mini("[constraints]\nrank ACT -> ACT window 4294967300 = 9\n"),
+                      ":13:", "window 4294967300 out of range");
+    expect_file_error("dram_spec_file_window_zero", mini("[constraints]\nrank ACT -> ACT window 0 = 9\n"), ":13:",
+                      "allowed 1..");
+    expect_file_error("dram_spec_file_window_not_number", mini("[constraints]\nrank ACT -> ACT window x4 = 9\n"),
+                      ":13:", "only 'window N'");
+    expect_file_error("dram_spec_file_overlong_name", mini("nABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789 = 3\n"), ":12:",
+                      "must be an identifier");
 
     tb_begin("dram_addrmap_robaracoch");
     if (TB_CHECK(dram_spec_load(&spec, CFG, NULL, 0, err, sizeof err) == 0, "%s", err)) {
@@ -215,6 +227,25 @@ int main(void)
         TB_CHECK(strstr(err, ":3:") && strstr(err, "vdd1") && strstr(err, "allowed"), "message '%s'", err);
         if (path)
             unlink(path);
+    }
+    tb_end();
+
+    /* NaN is not below nor above any range: it used to pass the range check
+     * (found by cppcheck; energy then printed "nan uJ") */
+    tb_begin("dram_power_spec_rejects_nan");
+    {
+        static const char *const texts[] = {"[memspec]\nclk_mhz = 800\nvdd1 = nan\n",
+                                            "[memspec]\nclk_mhz = 800\nidd0 = -NaN\n",
+                                            "[memspec]\nclk_mhz = 800\nnRAS = nan\n"};
+        static const char *const keys[] = {"vdd1", "idd0", "nRAS"};
+        for (int i = 0; i < 3; i++) {
+            const char *path = temp_file(texts[i]);
+            dram_power_spec q;
+            TB_CHECK(path && dram_power_spec_load(&q, path, err, sizeof err) != 0, "%s accepted", keys[i]);
+            TB_CHECK(strstr(err, ":3:") && strstr(err, keys[i]) && strstr(err, "allowed"), "message '%s'", err);
+            if (path)
+                unlink(path);
+        }
     }
     tb_end();
 

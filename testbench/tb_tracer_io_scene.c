@@ -91,6 +91,24 @@ static void test_views_errors(void)
         tb_end();
     }
     (void)ok_line;
+
+    /* a token longer than the parser's buffer was cut silently: this fov read 4.5 */
+    tb_begin("views_error_overlong_number_not_cut");
+    {
+        char text[512];
+        int n = snprintf(text, sizeof text, "view a eye 0 0 0 at 0 0 -1 up 0 1 0 fov 4.5");
+        memset(text + n, '0', 200);
+        snprintf(text + n + 200, sizeof text - (size_t)n - 200, "e1\n");
+        rt_views vs;
+        char err[512] = "";
+        bool ok = rt_views_parse_text(text, "v.txt", &vs, err, sizeof err);
+        TB_CHECK(!ok, "accepted (fov %g)", ok && vs.n ? (double)vs.v[0].fov_deg : 0.0);
+        TB_CHECK(!ok && strstr(err, "v.txt:1:") && strstr(err, "'fov' needs") && strstr(err, "000..."), "got '%s'",
+                 err);
+        if (ok)
+            rt_views_free(&vs);
+    }
+    tb_end();
 }
 
 static const char *tetra_obj = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
@@ -206,6 +224,33 @@ static void test_scene_files(void)
         TB_CHECK(!ok && msg, "'%s' lacks '%s'", err, bad[i].where);
         TB_CHECK(!ok && strstr(err, bad[i].what), "'%s' lacks '%s'", err, bad[i].what);
         TB_CHECK(ok || (s.mesh.verts == NULL && s.views.v == NULL), "scene not zeroed");
+        if (ok)
+            rt_scene_free(&s);
+        tb_end();
+    }
+
+    /* lines and paths longer than the loader's buffers were cut silently:
+     * the view line's tail went unchecked, the mesh path named another file */
+    {
+        static char text[8192];
+        int n = snprintf(text, sizeof text, "mesh city\nview a eye 0 0 1 at 0 0 0 up 0 1 0 fov 40");
+        memset(text + n, ' ', 1300);
+        snprintf(text + n + 1300, sizeof text - (size_t)n - 1300, "extra\n");
+        tb_begin("scene_error_overlong_view_line");
+        write_text("e9.scene", text);
+        bool ok = rt_scene_load(at("e9.scene"), &s, err, sizeof err);
+        TB_CHECK(!ok && strstr(err, "e9.scene:2:") && strstr(err, "longer than"), "got '%s'", err);
+        if (ok)
+            rt_scene_free(&s);
+        tb_end();
+        n = snprintf(text, sizeof text, "mesh ");
+        for (int i = 0; i < 2100; i++)
+            n += snprintf(text + n, sizeof text - (size_t)n, "./");
+        snprintf(text + n, sizeof text - (size_t)n, "m.obj\n");
+        tb_begin("scene_error_overlong_mesh_path");
+        write_text("e10.scene", text);
+        ok = rt_scene_load(at("e10.scene"), &s, err, sizeof err);
+        TB_CHECK(!ok && strstr(err, "e10.scene:1:") && strstr(err, "mesh path longer than"), "got '%s'", err);
         if (ok)
             rt_scene_free(&s);
         tb_end();

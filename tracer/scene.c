@@ -32,20 +32,25 @@ bool rt_mesh_load(const char *path, rt_mesh *out, char *err, size_t errlen)
     return false;
 }
 
-/* dir/name where dir is the folder of `base` (name unchanged when absolute). */
-static void path_beside(const char *base, const char *name, char *out, size_t n)
+/* dir/name where dir is the folder of `base` (name unchanged when absolute);
+ * false when that does not fit in out[n] (a cut path names another file). */
+static bool path_beside(const char *base, const char *name, char *out, size_t n)
 {
     const char *slash = strrchr(base, '/');
+    int len;
     if (name[0] == '/' || !slash)
-        snprintf(out, n, "%s", name);
+        len = snprintf(out, n, "%s", name);
     else
-        snprintf(out, n, "%.*s/%s", (int)(slash - base), base, name);
+        len = snprintf(out, n, "%.*s/%s", (int)(slash - base), base, name);
+    return len >= 0 && (size_t)len < n;
 }
 
+/* The file name of path into out[n] (n > 1; a name has at most NAME_MAX =
+ * 255 bytes; the precision tells gcc -O3 so: -Wformat-truncation). */
 static void base_name(const char *path, char *out, size_t n)
 {
     const char *slash = strrchr(path, '/');
-    snprintf(out, n, "%s", slash ? slash + 1 : path);
+    snprintf(out, n, "%.*s", (int)n - 1, slash ? slash + 1 : path);
 }
 
 /* One view framing the bounding sphere from the +Z side, slightly above,
@@ -77,7 +82,8 @@ static bool load_geometry(const char *what, rt_scene *s, char *err, size_t errle
 {
     const char *name = strncmp(what, "builtin:", 8) == 0 ? what + 8 : what;
     if (rt_builtin_exists(name) || name != what) {
-        snprintf(s->name, sizeof s->name, "%s", name);
+        /* built-in names are short; a longer one is rejected by rt_builtin_generate */
+        snprintf(s->name, sizeof s->name, "%.*s", (int)sizeof s->name - 1, name);
         return rt_builtin_generate(name, &s->mesh, &s->views, err, errlen);
     }
     if (!is_obj(what) && !is_ply(what)) {
@@ -88,8 +94,7 @@ static bool load_geometry(const char *what, rt_scene *s, char *err, size_t errle
         return false;
     base_name(what, s->name, sizeof s->name);
     char vpath[4096];
-    path_beside(what, "views.txt", vpath, sizeof vpath);
-    if (access(vpath, F_OK) == 0)
+    if (path_beside(what, "views.txt", vpath, sizeof vpath) && access(vpath, F_OK) == 0)
         return rt_views_load(vpath, &s->views, err, errlen);
     return auto_view(&s->mesh, &s->views, err, errlen);
 }
@@ -139,12 +144,15 @@ static bool load_scene_file(const char *path, rt_scene *s, char *err, size_t err
                 goto done;
             }
             char mpath[4096];
-            if (strncmp(arg, "builtin:", 8) == 0 || rt_builtin_exists(arg))
-                snprintf(mpath, sizeof mpath, "%s", arg);
-            else
-                path_beside(path, arg, mpath, sizeof mpath);
-            if (strncmp(arg, "builtin:", 8) != 0 && !rt_builtin_exists(arg) && !is_obj(mpath) &&
-                !is_ply(mpath)) {
+            const bool builtin = strncmp(arg, "builtin:", 8) == 0 || rt_builtin_exists(arg);
+            const bool fits = builtin ? snprintf(mpath, sizeof mpath, "%s", arg) < (int)sizeof mpath
+                                      : path_beside(path, arg, mpath, sizeof mpath);
+            if (!fits) {
+                rt_scene_errorf(err, errlen, "%s:%u: mesh path longer than %zu characters", path, lineno,
+                                sizeof mpath - 1);
+                goto done;
+            }
+            if (!builtin && !is_obj(mpath) && !is_ply(mpath)) {
                 rt_scene_errorf(err, errlen,
                                 "%s:%u: mesh '%s': allowed a built-in name (interior, hairball, city, "
                                 "forest) or a path ending .obj, .ply (optionally .gz)",
@@ -164,7 +172,11 @@ static bool load_scene_file(const char *path, rt_scene *s, char *err, size_t err
                 rt_scene_errorf(err, errlen, "%s:%u: 'views' needs a path", path, lineno);
                 goto done;
             }
-            path_beside(path, arg, vpath, sizeof vpath);
+            if (!path_beside(path, arg, vpath, sizeof vpath)) {
+                rt_scene_errorf(err, errlen, "%s:%u: views path longer than %zu characters", path, lineno,
+                                sizeof vpath - 1);
+                goto done;
+            }
             if (!rt_views_load(vpath, &vs, err, errlen))
                 goto done;
             for (uint32_t i = 0; i < vs.n; i++) {
@@ -179,7 +191,12 @@ static bool load_scene_file(const char *path, rt_scene *s, char *err, size_t err
         } else if (strcmp(line, "view") == 0) {
             char full[1200];
             rt_view v;
-            snprintf(full, sizeof full, "view %s", arg);
+            if (snprintf(full, sizeof full, "view %s", arg) >= (int)sizeof full) {
+                /* cut, its tail would go unchecked (as views.txt lines, view.c) */
+                rt_scene_errorf(err, errlen, "%s:%u: line longer than %zu characters", path, lineno,
+                                sizeof full - 1);
+                goto done;
+            }
             if (!rt_view_parse_line(full, path, lineno, &v, err, errlen))
                 goto done;
             char sub[512];

@@ -19,7 +19,10 @@ bool rt_views_line_is_blank(const char *line)
     return *line == 0 || *line == '\n' || *line == '#';
 }
 
-/* Next whitespace-separated token of *p into tok (up to cap-1 chars). */
+/* Next whitespace-separated token of *p into tok (up to cap-1 chars). A
+ * longer token ends in "..." so that it matches no keyword, name or number
+ * (it used to be cut silently: "4.5000...0e1" read as 4.5) and messages
+ * show it as cut. */
 static bool next_token(const char **p, char *tok, size_t cap)
 {
     const char *s = *p;
@@ -27,12 +30,15 @@ static bool next_token(const char **p, char *tok, size_t cap)
         s++;
     if (*s == 0 || *s == '\n')
         return false;
-    size_t n = 0;
+    size_t n = 0, len = 0;
     while (*s && *s != ' ' && *s != '\t' && *s != '\r' && *s != '\n') {
         if (n + 1 < cap)
             tok[n++] = *s;
         s++;
+        len++;
     }
+    if (len > n && n >= 3)
+        memcpy(tok + n - 3, "...", 3);
     tok[n] = 0;
     *p = s;
     return true;

@@ -1,7 +1,7 @@
 # rtsim top-level build. Out of tree into $(BUILD); `make asan` builds the same
 # sources with AddressSanitizer + UndefinedBehaviorSanitizer into build/asan.
 #
-# Layout (SPEC.md "Top-level layout"): one static library per folder
+# Layout (docs/design.md "Layout"): one static library per folder
 #   kernel/  -> libkernel.a   (discrete-event kernel; includes nothing else)
 #   tracer/  -> libtracer.a   (software ray tracer; may use nothing from model/)
 #   model/   -> libmodel.a    (the accelerator; uses kernel/ and tracer/ layouts)
@@ -29,8 +29,11 @@ ifeq ($(SAN),1)
 endif
 
 LIBS := model tracer kernel
-# Extra libraries per area (set in mk/*.mk): EXTRA_LDLIBS
-EXTRA_LDLIBS :=
+# Extra libraries per area (set in mk/*.mk): EXTRA_LDLIBS. Recursively
+# expanded on purpose: its $(shell pkg-config ...) parts run when a link recipe
+# runs, after `deps` has installed the packages, not when make reads this file
+# (on a fresh machine they would find nothing and every link would fail).
+EXTRA_LDLIBS =
 # Benchmark programs (bench/ only; may link SystemC, Assimp): BENCH_BINS
 BENCH_BINS :=
 -include $(sort $(wildcard mk/*.mk))
@@ -47,6 +50,9 @@ TB_BINS  := $(patsubst testbench/%.c,$(BUILD)/testbench/%,$(TB_SRCS))
 
 .PHONY: all asan test run bench deps clean
 .DEFAULT_GOAL := all
+# Object files are intermediates of the libraries and binaries; without this,
+# make deletes them after every build and the next `make` compiles them again.
+.SECONDARY:
 all: $(CLI_BINS) $(TB_BINS)
 
 $(foreach l,$(LIBS),$(eval $(BUILD)/lib/lib$(l).a: $(call lib_objs,$(l))))
@@ -85,11 +91,15 @@ test: deps
 	$(MAKE) asan
 	@testbench/run.sh build build/asan
 
+# run and bench build in a second make, started after `deps`: that make reads
+# the Makefile again with the packages installed (pkg-config answers).
 RUN_CMD ?= $(BUILD)/bin/rtsim
-run: deps all
+run: deps
+	$(MAKE) all
 	$(RUN_CMD)
 
-bench: deps all $(BENCH_BINS)
+bench: deps
+	$(MAKE) all $(BENCH_BINS)
 	@mkdir -p $(BUILD)/bench
 	@set -e; for s in $(sort $(wildcard bench/*.sh)); do bash $$s $(BUILD); done
 

@@ -20,4 +20,3 @@ fuzz-build:
 	$(MAKE) BUILD=build/afl SAN=1 CC=afl-cc CXX=afl-c++ AFL_QUIET=1 $(patsubst %,build/afl/fuzz/%,$(FUZZ_NAMES))
 fuzz: fuzz-build
 	scripts/fuzz.sh build/afl $(FUZZ_SECONDS) $(FUZZ_NAMES)
-.PRECIOUS: $(BUILD)/obj/testbench/fuzz/%.c.o

@@ -5,7 +5,7 @@
 # VCD off and on, and diffuse with the fixed-latency memory fidelity. Host time is the run alone (rtsim's "host" line: no scene
 # loading or BVH build), median of RUNS (5) runs, one core.
 #   bash bench/accel.sh [BUILD_DIR]
-# Targets (SPEC/issue 5): >= 2 M simulated cycles per host second with VCD
+# Targets (issue 5): >= 2 M simulated cycles per host second with VCD
 # off; VCD on at most 3x slower. The CSV's reference_median_s is the target
 # time (cycles / 2e6 s, or 3 x the VCD-off median), so ratio >= 1 = target met.
 # Writes BUILD_DIR/bench/accel.csv and prints a table.

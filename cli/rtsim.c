@@ -1,4 +1,4 @@
-/* rtsim — runs the cycle-level accelerator model on a scene (SPEC.md
+/* rtsim — runs the cycle-level accelerator model on a scene (docs/design.md
  * "Command-line conventions"): builds the scene's BVH for the machine's
  * width, feeds primary (or diffuse path) rays through the model and prints
  * cycles, MRPS, utilization, cache hit rates, DRAM traffic and rays in flight.

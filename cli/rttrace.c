@@ -1,4 +1,4 @@
-/* rttrace — the software ray tracer's command-line tool (SPEC.md
+/* rttrace — the software ray tracer's command-line tool (docs/design.md
  * "Command-line conventions"): loads a scene, builds the BVH, traces a view's
  * primary rays or diffuse paths with the reference traversal (the hardware's
  * algorithm, tracer/traverse.h), optionally compares every ray with Embree,

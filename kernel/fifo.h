@@ -21,7 +21,8 @@
  *    "<name>.occupancy" (scopes from the dots of the name).
  *  - ks_fifo_set_capacity before the run (or while empty) resizes, e.g. to
  *    ks_fifo_suggested_capacity(), the first power of two above the maximum
- *    occupancy seen (the paper's FIFO sizing, SPEC.md "FIFOs").
+ *    occupancy seen (the paper's FIFO sizing; docs/design.md, "Conventions
+ *    of the model").
  * The struct is public only so that the hot queries can be inlined; its
  * fields are private. FIFOs are owned by the sim. */
 #ifndef KS_FIFO_H

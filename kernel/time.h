@@ -17,7 +17,7 @@ typedef int64_t ks_time;
 #define KS_US(x) ((ks_time)(x) * 1000000)
 #define KS_MS(x) ((ks_time)(x) * 1000000000)
 
-/* 500 MHz, the accelerator's clock (SPEC.md "The hardware model"). */
+/* 500 MHz, the accelerator's clock (docs/design.md "Hardware defaults"). */
 #define KS_DEFAULT_PERIOD_PS ((ks_time)2000)
 
 #endif

@@ -4,9 +4,9 @@
  * memory image (the model is execution-driven on the image's bytes), so a hit
  * means "the bytes may be used this cycle".
  *
- * Instances (paper sec. 3, SPEC "Caches"): per-TRV node L1 (16 KB), shared
- * node L2 (128 KB), primitive cache (128 KB, two banks interleaved by 64 B
- * line, so an unaligned 48 B triangle touching two lines is served in one
+ * Instances (paper sec. 3; docs/design.md "Hardware defaults"): per-TRV
+ * node L1 (16 KB), shared node L2 (128 KB), primitive cache (128 KB, two
+ * banks interleaved by 64 B line, so an unaligned 48 B triangle touching two lines is served in one
  * cycle when the lines sit in different banks). All 4-way by default.
  *
  * Protocol (synchronous probe, asynchronous fill — "looping for next chance"):

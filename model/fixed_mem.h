@@ -1,6 +1,6 @@
 /* fixed_mem.h — fixed-latency main memory with a peak-bandwidth limit: the
- * cheap fidelity option for the memory (SPEC "Speed and accuracy") and the
- * default until the LPDDR3 port is selected.
+ * cheap fidelity option for the memory (docs/design.md "What rtsim is":
+ * cheaper fidelities) and the default until the LPDDR3 port is selected.
  *
  * Contract (one clocked process on the accelerator clock):
  *  - Accepts at most one mem_req per cycle from req_in while fewer than

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# tb_accel_cli — rtsim's command line (SPEC.md "Command-line conventions"):
+# tb_accel_cli — rtsim's command line (docs/design.md "Command-line conventions"):
 # help/version/--help-module, the summary and JSON (cycles, rays, mrps,
 # dram_bytes with units and descriptions), VCD with scopes per unit, a window
 # and a filter, the heatmap, FIFO auto-sizing (the written machine loads back

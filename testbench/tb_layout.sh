@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Architecture rules of SPEC.md "Top-level layout", checked on the sources:
+# Architecture rules of docs/design.md "Layout", checked on the sources:
 # kernel/ includes nothing from other project folders; tracer/ nothing from model/.
 cd "$(dirname "$0")/.."
 bad=$(grep -HnE '#include[[:space:]]*"' kernel/*.[ch] 2>/dev/null | grep -vE '#include[[:space:]]*"(kernel/)?[a-z0-9_]+\.h"')

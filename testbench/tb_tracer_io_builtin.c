@@ -121,7 +121,7 @@ static void test_scene(unsigned gi)
     tb_end();
 }
 
-/* The character of each scene (SPEC.md "Built-in defaults should imitate"). */
+/* The character of each scene (docs/design.md "The workload side"). */
 static void test_character(void)
 {
     rt_mesh m[4];

@@ -1,6 +1,6 @@
 /* bounce.h — diffuse path tracing: the next ray of a pixel's path.
  *
- * Model (SPEC.md "Rays"): Lambertian surfaces, cosine-weighted hemisphere
+ * Model (docs/design.md "The workload side"): Lambertian surfaces, cosine-weighted hemisphere
  * sampling about the geometric normal turned to face the incoming ray, at
  * most RT_MAX_BOUNCES_DEFAULT bounces, 1 sample per pixel. The random numbers
  * of bounce b of pixel p come from rt_rng_for_ray(seed, p, b), so a path does

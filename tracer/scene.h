@@ -1,6 +1,6 @@
 /* scene.h — a scene = triangle mesh + named views; loading by name or path.
  *
- * A SCENE argument (SPEC.md "Command-line conventions") is one of
+ * A SCENE argument (docs/design.md "Command-line conventions") is one of
  *   - a built-in name (builtin.h): interior, hairball, city, forest
  *     (also accepted as "builtin:NAME");
  *   - a mesh file: *.obj, *.ply, optionally *.gz (obj_load.h, ply_load.h);

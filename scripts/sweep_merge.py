@@ -134,12 +134,14 @@ def main():
           + ("; not in rtsim's JSON (no column, no chart): " + ", ".join(absent) if absent else ""))
     failed = [p[0] for p, j in results if j.get("run_failed")]
     if failed:
-        print(f"sweep: {len(failed)} points deadlocked or livelocked (run_failed = 1): "
+        print(f"sweep: {len(failed)} of {len(results)} points deadlocked or livelocked "
+              "(run_failed = 1 in the CSV, left out of the charts): "
               + " ".join(failed[:5]) + (" ..." if len(failed) > 5 else ""))
 
-    draw_charts(d, header, grid, results, present)
+    # A deadlocked run's figures (MRPS 0...) are no measurement: not charted.
+    draw_charts(d, header, grid, [(p, j) for p, j in results if not j.get("run_failed")], present)
     if missing:
-        print(f"sweep: {len(missing)} points have no result yet: " + " ".join(missing[:5])
+        print(f"sweep: {len(missing)} of {len(points)} points have no result yet: " + " ".join(missing[:5])
               + (" ..." if len(missing) > 5 else "") + " (run the sweep again to do them)",
               file=sys.stderr)
         return 1

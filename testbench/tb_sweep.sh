@@ -131,7 +131,7 @@ check sweep_energy_chart test -s "$tmp/energy/charts/energy_mj-vs-trv.count.png"
 check sweep_energy_names_the_rest grep -q "no column, no chart): area_mm2, power_mw" <<< "$out"
 # a missing point: the CSV holds the others, exit 1, the point is named
 rm -f "$tmp/energy/results/$name.json"
-expect sweep_merge_incomplete_exit_1 1 "1 points have no result yet: $name" -- "$sweep" merge "$tmp/energy"
+expect sweep_merge_incomplete_exit_1 1 "1 of 2 points have no result yet: $name" -- "$sweep" merge "$tmp/energy"
 check sweep_merge_incomplete_rows test "$(tail -n +2 "$tmp/energy/results.csv" | wc -l)" -eq 1
 
 # --- the Slurm array script (run here task by task, as Slurm would): with
@@ -145,3 +145,12 @@ for t in 1 2 3 4; do SLURM_ARRAY_TASK_ID=$t bash "$script" > "$tmp/array-task$t.
 check sweep_sbatch_each_point_once test "$(cat "$tmp"/array-task*.out | grep -c ': done in ')" -eq 6
 "$sweep" merge "$tmp/array" > /dev/null 2>&1
 check sweep_sbatch_csv_equals_local cmp "$tmp/array/results.csv" "$tmp/full/results.csv"
+
+# --- a point that deadlocks (an undersized FIFO; rtsim exits 1 and marks its
+# JSON failed) is a result: kept, run_failed = 1 in the CSV, not charted
+out=$("$sweep" --set-grid fifo.ray_trv_loop=1,32 --res 32x32 --rtsim "$bin" --out "$tmp/deadlock" 2>&1); rc=$?
+check sweep_deadlock_exit_0 test $rc -eq 0
+check sweep_deadlock_kept test "$(ls "$tmp/deadlock/results" | grep -c '\.json$')" -eq 2
+check sweep_deadlock_run_failed_column test "$(cut -d, -f6,11 "$tmp/deadlock/results.csv" | sort | tr '\n' ' ')" = "1,1 32,0 fifo.ray_trv_loop,run_failed "
+check sweep_deadlock_named grep -q "1 of 2 points deadlocked or livelocked" <<< "$out"
+check sweep_deadlock_not_charted test "$(grep -c '^[0-9]' "$tmp/deadlock/charts/mrps-vs-fifo.ray_trv_loop.dat")" -eq 1

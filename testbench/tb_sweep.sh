@@ -148,9 +148,13 @@ check sweep_sbatch_csv_equals_local cmp "$tmp/array/results.csv" "$tmp/full/resu
 
 # --- a point that deadlocks (an undersized FIFO; rtsim exits 1 and marks its
 # JSON failed) is a result: kept, run_failed = 1 in the CSV, not charted
-out=$("$sweep" --set-grid fifo.ray_trv_loop=1,32 --res 32x32 --rtsim "$bin" --out "$tmp/deadlock" 2>&1); rc=$?
+out=$("$sweep" --set-grid fifo.ray_trv_loop=1,32 --res 32x32 --rtsim "$bin" --stat sched.completed \
+  --out "$tmp/deadlock" 2>&1); rc=$?
 check sweep_deadlock_exit_0 test $rc -eq 0
 check sweep_deadlock_kept test "$(ls "$tmp/deadlock/results" | grep -c '\.json$')" -eq 2
 check sweep_deadlock_run_failed_column test "$(cut -d, -f6,11 "$tmp/deadlock/results.csv" | sort | tr '\n' ' ')" = "1,1 32,0 fifo.ray_trv_loop,run_failed "
+check sweep_stat_column test "$(head -n 1 "$tmp/deadlock/results.csv" | cut -d, -f14)" = sched.completed
+check sweep_stat_values test "$(tail -n +2 "$tmp/deadlock/results.csv" | cut -d, -f9 | tr '\n' ' ')" = \
+  "$(tail -n +2 "$tmp/deadlock/results.csv" | cut -d, -f14 | tr '\n' ' ')"
 check sweep_deadlock_named grep -q "1 of 2 points deadlocked or livelocked" <<< "$out"
 check sweep_deadlock_not_charted test "$(grep -c '^[0-9]' "$tmp/deadlock/charts/mrps-vs-fifo.ray_trv_loop.dat")" -eq 1

@@ -32,9 +32,9 @@ import sys
 FIGURES = [
     ("mrps", "mrps", 1, "MRPS (million rays per second)"),
     ("energy_mj", "energy_mj", 1, "energy per frame (mJ)"),
-    ("mrps_per_mm2", "mrps_per_mm2", 1, "MRPS/mm^2"),
+    ("mrps_per_mm2", "mrps_per_mm2", 1, "MRPS/mm²"),
     ("dram_mb", "dram_bytes", 1e6, "DRAM traffic (MB)"),
-    ("area_mm2", "area_mm2", 1, "area (mm^2)"),
+    ("area_mm2", "area_mm2", 1, "area (mm²)"),
     ("power_mw", "power_mw", 1, "average power (mW)"),
 ]
 # Always-present context columns (not charted).
@@ -169,6 +169,7 @@ def draw_charts(d, header, grid, results, present):
     col = {name: header.index(name) for name in dims}
     varying = [k for k in dims if len({p[col[k]] for p, _ in results}) > 1]
     script = []
+    outputs = []              # (temporary, final): renamed once gnuplot succeeded
     drawn = 0
     for key in grid:
         values = []                                  # grid order, as planned
@@ -213,8 +214,10 @@ def draw_charts(d, header, grid, results, present):
             logx = numeric and min(nums) > 0 and max(nums) / min(nums) >= 8
             for term, ext in (("pngcairo size 900,560 noenhanced", "png"),
                               ("svg size 900,560 dynamic noenhanced", "svg")):
+                final = os.path.join(charts, f"{base}.{ext}")
+                outputs.append((f"{final}.tmp.{os.getpid()}", final))
                 script += [f"set terminal {term}",
-                           f"set output '{os.path.join(charts, base + '.' + ext)}'",
+                           ("output", len(outputs) - 1),
                            f"set title '{fig[3]} against {key}'",
                            f"set xlabel '{key}'", f"set ylabel '{fig[3]}'",
                            "set key outside right top", "set grid",
@@ -224,12 +227,22 @@ def draw_charts(d, header, grid, results, present):
                                                f"title '{t.replace(chr(39), '')}'"
                                                for i, t in enumerate(titles))]
             drawn += 1
+    # charts.gp names the final files (to edit and rerun by hand); gnuplot
+    # itself writes temporaries, renamed only when all charts are drawn.
+    def text(which):
+        return "\n".join(f"set output '{outputs[x[1]][which]}'" if isinstance(x, tuple) else x
+                         for x in script) + "\n"
     gp = os.path.join(charts, "charts.gp")
-    write_atomic(gp, "\n".join(script) + "\n")
-    r = subprocess.run([gnuplot, gp], capture_output=True, text=True)
+    write_atomic(gp, text(1))
+    r = subprocess.run([gnuplot], input=text(0), capture_output=True, text=True)
     if r.returncode != 0:
         print(f"sweep: gnuplot failed on {gp}:\n{r.stderr.strip()}", file=sys.stderr)
+        for tmp, _ in outputs:
+            if os.path.exists(tmp):
+                os.remove(tmp)
         return
+    for tmp, final in outputs:
+        os.replace(tmp, final)
     print(f"sweep: {drawn} charts (PNG and SVG) in {charts}/")
 
 

@@ -1,0 +1,250 @@
+#!/usr/bin/env python3
+"""sweep_merge.py — merges a sweep's results into one CSV and draws charts.
+
+    python3 scripts/sweep_merge.py DIR        (what `scripts/sweep merge DIR` runs)
+
+Reads DIR/jobs.tsv (the points, written by scripts/sweep) and DIR/sweep.conf
+(extra `stat KEY` columns), and every finished point's DIR/results/NAME.json
+(rtsim --json). Writes DIR/results.csv: one row per finished point, in the
+order of jobs.tsv, so the same finished points always give the same bytes
+whatever order they ran in. Then draws, with gnuplot, each figure of merit
+against each swept (--set-grid) key: DIR/charts/FIGURE-vs-KEY.png and .svg.
+
+Figures of merit are those the JSON has: MRPS and DRAM MB always; mJ/frame,
+MRPS/mm2, area and power once rtsim reports them (issue 13's energy model);
+the missing ones are named, not charted. Exit status: 0 when every point has
+a result, 1 when some have none (the CSV then holds the finished ones), 2 on
+bad input (no jobs.tsv).
+"""
+import csv
+import io
+import json
+import math
+import os
+import re
+import shutil
+import subprocess
+import sys
+
+# (CSV column, JSON key, divisor, chart label): the figures of merit, in the
+# order of the paper's Table 2 (MRPS, mJ/frame, MRPS/mm2, DRAM MB), then area
+# and power. A figure whose JSON key no result has gets no column.
+FIGURES = [
+    ("mrps", "mrps", 1, "MRPS (million rays per second)"),
+    ("energy_mj", "energy_mj", 1, "energy per frame (mJ)"),
+    ("mrps_per_mm2", "mrps_per_mm2", 1, "MRPS/mm²"),
+    ("dram_mb", "dram_bytes", 1e6, "DRAM traffic (MB)"),
+    ("area_mm2", "area_mm2", 1, "area (mm²)"),
+    ("power_mw", "power_mw", 1, "average power (mW)"),
+]
+# Always-present context columns (not charted).
+CONTEXT = [("rays_traced", "rays"), ("cycles", "cycles"), ("run_failed", "run_failed")]
+
+
+def die(msg, code=2):
+    print(f"sweep: {msg}", file=sys.stderr)
+    sys.exit(code)
+
+
+def write_atomic(path, text):
+    tmp = f"{path}.tmp.{os.getpid()}"
+    with open(tmp, "w", newline="") as f:
+        f.write(text)
+    os.replace(tmp, path)
+
+
+def fmt(v):
+    """A JSON value as CSV text: floats by repr (exact and stable), the rest by str."""
+    if v is None:
+        return ""
+    if isinstance(v, bool):
+        return str(int(v))
+    return repr(v) if isinstance(v, float) else str(v)
+
+
+def figure(j, fig):
+    """The figure of merit fig of result j, in the figure's unit, or None."""
+    v = j.get(fig[1])
+    return None if v is None else (v / fig[2] if fig[2] != 1 else v)
+
+
+def as_number(s):
+    try:
+        x = float(s)
+        return x if math.isfinite(x) else None
+    except ValueError:
+        return None
+
+
+def safe(s):
+    return re.sub(r"[^A-Za-z0-9._-]", "_", s)
+
+
+def main():
+    if len(sys.argv) != 2:
+        die("usage: scripts/sweep merge DIR")
+    d = sys.argv[1]
+    jobs_path = os.path.join(d, "jobs.tsv")
+    if not os.path.isfile(jobs_path):
+        die(f"{jobs_path} not found (run scripts/sweep first)")
+    with open(jobs_path) as f:
+        rows = [line.rstrip("\n").split("\t") for line in f if line.strip()]
+    header, points = rows[0], rows[1:]
+    if header[:6] != ["name", "scene", "rays", "machine", "res", "set"] or header[-1] != "args":
+        die(f"{jobs_path}:1: not a sweep job list (header {header!r})")
+    grid = header[6:-1]
+    stats = []
+    conf = os.path.join(d, "sweep.conf")
+    if os.path.isfile(conf):
+        for line in open(conf):
+            parts = line.split()
+            if len(parts) == 2 and parts[0] == "stat":
+                stats.append(parts[1])
+
+    results, missing = [], []
+    for n, p in enumerate(points, start=2):
+        if len(p) != len(header):
+            die(f"{jobs_path}:{n}: {len(p)} fields, the header has {len(header)}")
+        path = os.path.join(d, "results", p[0] + ".json")
+        if not os.path.exists(path):
+            missing.append(p[0])
+            continue
+        try:
+            with open(path) as f:
+                results.append((p, json.load(f)))
+        except (OSError, ValueError) as e:
+            die(f"{path}: unreadable result ({e}); delete it to rerun the point", 1)
+
+    present = [fig for fig in FIGURES if any(fig[1] in j for _, j in results)]
+    absent = [fig[0] for fig in FIGURES if fig not in present]
+
+    out = io.StringIO()
+    w = csv.writer(out, lineterminator="\n")
+    w.writerow(["point", "scene", "rays", "machine", "res"] + grid + ["set", "args"]
+               + [c for c, _ in CONTEXT] + [fig[0] for fig in present] + stats)
+    for p, j in results:
+        ctx = [fmt(j.get(k)) for _, k in CONTEXT]
+        figs = [fmt(figure(j, fig)) for fig in present]
+        w.writerow(p[0:5] + p[6:-1] + ["" if p[5] == "-" else p[5], "" if p[-1] == "-" else p[-1]]
+                   + ctx + figs + [fmt(j.get(s)) for s in stats])
+    csv_path = os.path.join(d, "results.csv")
+    write_atomic(csv_path, out.getvalue())
+    print(f"sweep: merged {len(results)} of {len(points)} points into {csv_path}")
+    print("sweep: figures of merit: " + ", ".join(fig[0] for fig in present)
+          + ("; not in rtsim's JSON (no column, no chart): " + ", ".join(absent) if absent else ""))
+    failed = [p[0] for p, j in results if j.get("run_failed")]
+    if failed:
+        print(f"sweep: {len(failed)} of {len(results)} points deadlocked or livelocked "
+              "(run_failed = 1 in the CSV, left out of the charts): "
+              + " ".join(failed[:5]) + (" ..." if len(failed) > 5 else ""))
+
+    # A deadlocked run's figures (MRPS 0...) are no measurement: not charted.
+    draw_charts(d, header, grid, [(p, j) for p, j in results if not j.get("run_failed")], present)
+    if missing:
+        print(f"sweep: {len(missing)} of {len(points)} points have no result yet: " + " ".join(missing[:5])
+              + (" ..." if len(missing) > 5 else "") + " (run the sweep again to do them)",
+              file=sys.stderr)
+        return 1
+    return 0
+
+
+def draw_charts(d, header, grid, results, present):
+    """One chart per (figure, swept key): the figure against the key's values,
+    one line per combination of everything else that varies (scene, rays,
+    machine, the other swept keys). Numeric values go on a numeric axis (log2
+    when they span a factor of 8 or more), others are categories in grid order."""
+    if not grid:
+        print("sweep: no --set-grid key, so no charts")
+        return
+    if not results:
+        return
+    gnuplot = shutil.which("gnuplot")
+    if not gnuplot:
+        print("sweep: gnuplot not found (Debian package gnuplot-nox): no charts", file=sys.stderr)
+        return
+    charts = os.path.join(d, "charts")
+    os.makedirs(charts, exist_ok=True)
+    # Columns of jobs.tsv that define a series: those with more than one value.
+    dims = ["scene", "rays", "machine"] + grid
+    col = {name: header.index(name) for name in dims}
+    varying = [k for k in dims if len({p[col[k]] for p, _ in results}) > 1]
+    script = []
+    outputs = []              # (temporary, final): renamed once gnuplot succeeded
+    drawn = 0
+    for key in grid:
+        values = []                                  # grid order, as planned
+        for p, _ in results:
+            if p[col[key]] not in values:
+                values.append(p[col[key]])
+        nums = [as_number(v) for v in values]
+        numeric = all(x is not None for x in nums)
+        others = [k for k in varying if k != key]
+        series = {}
+        for p, j in results:
+            label = " ".join(f"{k}={p[col[k]]}" if k in grid else p[col[k]] for k in others)
+            series.setdefault(label or "all", []).append((p[col[key]], j))
+        for fig in present:
+            base = f"{fig[0]}-vs-{safe(key)}"
+            dat = os.path.join(charts, base + ".dat")
+            blocks, titles = [], []
+            for label, pts in series.items():
+                lines = []
+                for v, j in pts:
+                    y = figure(j, fig)
+                    if y is None:
+                        continue
+                    x = as_number(v) if numeric else values.index(v)
+                    lines.append((x, y, v))
+                if lines:
+                    lines.sort(key=lambda t: t[0])
+                    blocks.append("\n".join(f"{x!r} {y!r} \"{v}\"" for x, y, v in lines))
+                    titles.append(label)
+            if not blocks:
+                continue
+            write_atomic(dat, f"# {fig[0]} against {key}; one block per series\n"
+                         + "\n\n\n".join(blocks) + "\n")
+            # The swept values themselves label the x axis (in grid order for
+            # categories); a numeric axis with many values keeps gnuplot's tics.
+            if not numeric:
+                xtics = "set xtics (" + ", ".join(f'"{v}" {i}' for i, v in enumerate(values)) + ")"
+            elif len(values) <= 12:
+                xtics = "set xtics (" + ", ".join(f'"{v}" {x!r}' for v, x in zip(values, nums)) + ")"
+            else:
+                xtics = "set xtics autofreq"
+            logx = numeric and min(nums) > 0 and max(nums) / min(nums) >= 8
+            for term, ext in (("pngcairo size 900,560 noenhanced", "png"),
+                              ("svg size 900,560 dynamic noenhanced", "svg")):
+                final = os.path.join(charts, f"{base}.{ext}")
+                outputs.append((f"{final}.tmp.{os.getpid()}", final))
+                script += [f"set terminal {term}",
+                           ("output", len(outputs) - 1),
+                           f"set title '{fig[3]} against {key}'",
+                           f"set xlabel '{key}'", f"set ylabel '{fig[3]}'",
+                           "set key outside right top", "set grid",
+                           "set logscale x 2" if logx else "unset logscale x",
+                           xtics, "set offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05",
+                           "plot " + ", ".join(f"'{dat}' index {i} using 1:2 with linespoints "
+                                               f"title '{t.replace(chr(39), '')}'"
+                                               for i, t in enumerate(titles))]
+            drawn += 1
+    # charts.gp names the final files (to edit and rerun by hand); gnuplot
+    # itself writes temporaries, renamed only when all charts are drawn.
+    def text(which):
+        return "\n".join(f"set output '{outputs[x[1]][which]}'" if isinstance(x, tuple) else x
+                         for x in script) + "\n"
+    gp = os.path.join(charts, "charts.gp")
+    write_atomic(gp, text(1))
+    r = subprocess.run([gnuplot], input=text(0), capture_output=True, text=True)
+    if r.returncode != 0:
+        print(f"sweep: gnuplot failed on {gp}:\n{r.stderr.strip()}", file=sys.stderr)
+        for tmp, _ in outputs:
+            if os.path.exists(tmp):
+                os.remove(tmp)
+        return
+    for tmp, final in outputs:
+        os.replace(tmp, final)
+    print(f"sweep: {drawn} charts (PNG and SVG) in {charts}/")
+
+
+if __name__ == "__main__":
+    sys.exit(main())

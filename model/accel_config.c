@@ -2,6 +2,8 @@
  * paper are marked "ours" in the descriptions and the presets. */
 #include "model/accel_config.h"
 
+#include "model/energy.h"
+
 #include <string.h>
 
 static const rtcfg_param trv_params_tab[] = {
@@ -57,7 +59,8 @@ const char *accel_fifo_key(unsigned i) { return i < 6 ? fifo_keys[i] : NULL; }
 
 int accel_add_schemas(rtcfg *cfg, char *err, size_t errlen)
 {
-    const rtcfg_schema *all[] = {&accel_schema_trv, &accel_schema_ist, &accel_schema_sched, &accel_schema_fifo};
+    const rtcfg_schema *all[] = {&accel_schema_trv, &accel_schema_ist, &accel_schema_sched, &accel_schema_fifo,
+                                 &energy_schema};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         if (rtcfg_add_schema(cfg, all[i], err, errlen))
             return -1;

@@ -71,6 +71,34 @@ static void register_util(ks_stats *st, const char *unit, const uint64_t *busy)
     ks_stat_formula(st, nm, "fraction", "busy cycles / frame cycles", util_formula, (void *)busy);
 }
 
+static double fifo_writes_fn(const ks_stats *reg, void *user)
+{
+    (void)reg;
+    return (double)ks_fifo_total_writes(user);
+}
+
+static double fifo_reads_fn(const ks_stats *reg, void *user)
+{
+    (void)reg;
+    return (double)ks_fifo_total_reads(user);
+}
+
+/* fifo.<name>.writes and .reads for every FIFO of the sim (energy: each
+ * access of a FIFO's RAM). */
+static int register_fifo_stats(accel_top *t)
+{
+    int rc = 0;
+    for (uint32_t i = 0; i < ks_sim_fifo_count(t->sim); i++) {
+        ks_fifo *f = ks_sim_fifo_at(t->sim, i);
+        char nm[128];
+        snprintf(nm, sizeof nm, "fifo.%s.writes", ks_fifo_name(f));
+        rc |= ks_stat_formula(t->stats, nm, "entries", "entries written to the FIFO", fifo_writes_fn, f);
+        snprintf(nm, sizeof nm, "fifo.%s.reads", ks_fifo_name(f));
+        rc |= ks_stat_formula(t->stats, nm, "entries", "entries read from the FIFO", fifo_reads_fn, f);
+    }
+    return rc;
+}
+
 /* The memory-side FIFO keys that carry a cache line, and whose line: the
  * rest carry requests (energy.fifo_request_bytes). */
 static double fifo_data_bytes(const rtcfg *cfg, const char *key)
@@ -157,7 +185,20 @@ static energy_model *build_energy_model(accel_top *t, const rtcfg *cfg, char *er
     }
     m.dram_modeled = memsys_dram_port(t->mem) && *rtcfg_str(cfg, "memory.dram_power");
     m.fixed_mem_pj_per_byte = rtcfg_real(cfg, "energy.fixed_mem_pj_per_byte");
-    return energy_model_create(cfg, &m, err, errlen);
+    energy_model *em = energy_model_create(cfg, &m, err, errlen);
+    /* every part must be declared in its unit's description (--help-module),
+     * so a unit cannot add energy or area unseen */
+    for (int i = 0; em && i < em->nparts; i++) {
+        const energy_part *p = &em->parts[i];
+        const ks_module_desc *d = p->module ? accel_module_desc(p->module) : NULL;
+        if (!d || !ks_module_desc_find(d, KS_DESC_PART, p->decl)) {
+            snprintf(err, errlen, "energy part %s is not declared in the description of module %s", p->name,
+                     p->module ? p->module : "(none)");
+            energy_model_destroy(em);
+            em = NULL;
+        }
+    }
+    return em;
 }
 
 static double stat_or_zero(const ks_stats *st, const char *name)
@@ -360,6 +401,10 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     ist_register(&t->ist, "ist", t->stats, t->vcd);
     register_util(t->stats, "ist", &t->ist.busy_cycles);
     /* energy and area: a part without a figure fails here, at start-up */
+    if (register_fifo_stats(t)) {
+        snprintf(err, errlen, "FIFO statistics: %s", ks_stats_error(t->stats));
+        goto fail;
+    }
     if (!(t->energy = build_energy_model(t, cfg, err, errlen)) || energy_register_stats(t->energy, t->stats, err, errlen))
         goto fail;
     return t;
@@ -618,7 +663,8 @@ int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen)
     return 0;
 }
 
-static const ks_module_desc *const all_descs[] = {&trv_module_desc, &ist_module_desc, &sched_module_desc};
+static const ks_module_desc *const all_descs[] = {&trv_module_desc, &ist_module_desc, &sched_module_desc,
+                                                  &ks_fifo_module_desc};
 
 const ks_module_desc *accel_module_desc(const char *name)
 {

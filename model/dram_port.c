@@ -362,6 +362,8 @@ static const ks_desc_item port_items[] = {
     {KS_DESC_STAT, "burst_read_latency_mean", "cycles", "", "", "mean burst read latency (Ramulator's figure)"},
     {KS_DESC_STAT, "energy_uJ", "uJ", "", "", "DRAM energy, DRAMPower method (only with a power file)"},
     {KS_DESC_STAT, "background_energy_uJ", "uJ", "", "", "part of energy_uJ spent in active and precharge standby (static)"},
+    {KS_DESC_PART, "dram", "DRAM", "", "",
+     "off chip, no area; ACT/PRE/RD/WR/REF energy and background standby (DRAMPower method)"},
     {KS_DESC_END, 0, 0, 0, 0, 0}};
 
 const ks_module_desc dram_port_desc = {"dram", "LPDDR3 memory: command-level controller behind timed FIFOs",

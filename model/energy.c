@@ -25,6 +25,12 @@ int energy_add_schema(rtcfg *cfg, char *err, size_t errlen) { return rtcfg_add_s
 static const char *const unit_names[EU_COUNT] = {"trv", "ist", "stack", "cache", "fifo", "dram"};
 const char *energy_unit_name(energy_unit u) { return u < EU_COUNT ? unit_names[u] : "?"; }
 
+const energy_part_kind energy_part_kinds[] = {
+    {"trv", "fpu"}, {"trv", "stack_bank"}, {"ist", "fpu"}, {"cache", "sram"},
+    {"fifo", "ram"}, {"dram", "dram"}, {"fixed_mem", "dram"},
+};
+const int energy_part_kind_count = (int)(sizeof energy_part_kinds / sizeof energy_part_kinds[0]);
+
 static energy_part *add_part(energy_model *em, const char *name, energy_unit unit, unsigned count, char *err,
                              size_t errlen)
 {
@@ -35,6 +41,17 @@ static energy_part *add_part(energy_model *em, const char *name, energy_unit uni
     energy_part *p = &em->parts[em->nparts++];
     memset(p, 0, sizeof *p);
     snprintf(p->name, sizeof p->name, "%s", name);
+    /* which unit description declares it (energy_part_kinds) */
+    static const struct { energy_unit unit; const char *prefix, *module, *decl; } owners[] = {
+        {EU_TRV, "trv.fpu", "trv", "fpu"},         {EU_STACK, "trv.stack", "trv", "stack_bank"},
+        {EU_IST, "ist.fpu", "ist", "fpu"},         {EU_CACHE, "", "cache", "sram"},
+        {EU_FIFO, "", "fifo", "ram"},
+    };
+    for (size_t i = 0; i < sizeof owners / sizeof owners[0]; i++)
+        if (owners[i].unit == unit && !strncmp(name, owners[i].prefix, strlen(owners[i].prefix))) {
+            p->module = owners[i].module;
+            p->decl = owners[i].decl;
+        }
     p->unit = unit;
     p->count = count;
     return p;

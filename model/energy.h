@@ -53,6 +53,8 @@ const char *energy_unit_name(energy_unit u);
 typedef struct energy_part {
     char name[48];           /* e.g. "node_l1", "fifo.ray_new", "trv fpu" */
     energy_unit unit;
+    const char *module;      /* the module whose description declares the part */
+    const char *decl;        /* its KS_DESC_PART name there */
     unsigned count;          /* identical instances */
     int is_fpu;
     double flop_units;       /* FPU: FLOPs per cycle of one instance */
@@ -102,6 +104,14 @@ typedef struct energy_model {
     int fifo_part0, cache_part0, stack_part, trv_part, ist_part; /* indices into parts */
     energy_result r;
 } energy_model;
+
+/* Every (module, part) the model builds; a unit description's KS_DESC_PART
+ * must be one of them, and each must be declared (tb_energy checks both). */
+typedef struct energy_part_kind {
+    const char *module, *decl;
+} energy_part_kind;
+extern const energy_part_kind energy_part_kinds[];
+extern const int energy_part_kind_count;
 
 /* The [energy] configuration section (tables, FIFO record widths, ...). */
 extern const rtcfg_schema energy_schema;

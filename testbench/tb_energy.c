@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "model/accel_top.h"
 #include "model/energy.h"
 #include "model/energy_table.h"
 #include "testbench/tb.h"
@@ -320,6 +321,40 @@ static void test_project_tables(void)
     tb_end();
 }
 
+/* Both directions: every part the model builds is declared in its unit's
+ * description, and every declared part is one the model builds. */
+static void test_parts_declared(void)
+{
+    tb_begin("energy_parts_declared_in_unit_descriptions");
+    static const char *const modules[] = {"trv", "ist", "sched", "fifo", "cache", "arbiter", "fixed_mem",
+                                          "dram_adapter", "dram"};
+    for (int k = 0; k < energy_part_kind_count; k++) {
+        const ks_module_desc *d = accel_module_desc(energy_part_kinds[k].module);
+        TB_CHECK(d && ks_module_desc_find(d, KS_DESC_PART, energy_part_kinds[k].decl), "%s.%s not declared",
+                 energy_part_kinds[k].module, energy_part_kinds[k].decl);
+    }
+    int declared = 0;
+    for (size_t i = 0; i < sizeof modules / sizeof modules[0]; i++) {
+        const ks_module_desc *d = accel_module_desc(modules[i]);
+        TB_CHECK(d != NULL, "no description of %s", modules[i]);
+        if (!d)
+            continue;
+        char err[256];
+        TB_CHECK(ks_module_desc_check(d, err, sizeof err) == 0, "%s", err);
+        for (const ks_desc_item *it = d->items; it->kind != KS_DESC_END; it++) {
+            if (it->kind != KS_DESC_PART)
+                continue;
+            declared++;
+            bool known = false;
+            for (int k = 0; k < energy_part_kind_count; k++)
+                known |= !strcmp(energy_part_kinds[k].module, d->name) && !strcmp(energy_part_kinds[k].decl, it->name);
+            TB_CHECK(known, "%s declares part %s that the energy model does not build", d->name, it->name);
+        }
+    }
+    TB_EQ_INT(declared, energy_part_kind_count);
+    tb_end();
+}
+
 int main(void)
 {
     const char *base = getenv("RTSIM_TMP");
@@ -334,5 +369,6 @@ int main(void)
     test_load_errors();
     test_arithmetic();
     test_project_tables();
+    test_parts_declared();
     return tb_finish();
 }

@@ -41,6 +41,13 @@ secs = d["cycles"] / 500e6
 assert close(d["power_mw"], d["energy_mj"] / secs), "power"
 assert close(d["mrps_per_mm2"], d["mrps"] / d["area_mm2"]), "MRPS/mm2"
 assert d["area.dram_mm2"] == 0 and d["energy.dram_mj"] > 0 and d["energy.trv_dynamic_mj"] > 0
+# per-bank stack counters add up to the unit's pushes and pops; FIFO counters exist
+for t in range(4):
+    w = sum(v for k, v in d.items() if k.startswith("trv%d.stack_bank" % t) and k.endswith("_writes"))
+    r = sum(v for k, v in d.items() if k.startswith("trv%d.stack_bank" % t) and k.endswith("_reads"))
+    assert w == d["trv%d.stack_pushes" % t] and r == d["trv%d.stack_pops" % t], t
+    assert 1 <= d["trv%d.stack_max_depth" % t] <= 64
+assert d["fifo.trv0.new.writes"] > 0 and d["fifo.trv0.new.reads"] == d["fifo.trv0.new.writes"]
 PY
 }
 check energy_cli_json_keys_units_sums check_json "$tmp/a.json"

@@ -8,7 +8,7 @@ static const ks_desc_item trv_items[] = {
     {KS_DESC_PARAM, "trv.count", "int", "4", "1..64", "TRV units per IST (paper sec. 3)"},
     {KS_DESC_PARAM, "trv.slots", "int", "32", "1..1024", "ray slots (stacks) per TRV (paper sec. 3)"},
     {KS_DESC_PARAM, "trv.stack_depth", "int", "64", "1..4096", "entries per ray stack (paper sec. 3)"},
-    {KS_DESC_PARAM, "trv.stack_banks", "int", "0", "0..64", "stack memory banks; 0 = N-1 (conflict-free pushes, sec. 3.1)"},
+    {KS_DESC_PARAM, "trv.stack_banks", "int", "0", "0..64", "stack memory banks; 0 = N for N > 2 (N-1 pushes plus the pop, sec. 3.1), 1 for BVH2"},
     {KS_DESC_PARAM, "trv.distance_stack", "enum auto|on|off", "auto", "", "distance stack culling; auto = on for N > 2 (sec. 3.1)"},
     {KS_DESC_PARAM, "trv.stages_box", "int", "3", "1..32", "pipeline stages of the slab test"},
     {KS_DESC_PARAM, "trv.stages_stack", "int", "1", "1..8", "pipeline stages of the stack access"},

@@ -6,6 +6,15 @@
 
 #include "kernel/sim_internal.h"
 
+static const ks_desc_item fifo_items[] = {
+    {KS_DESC_STAT, "writes", "entries", "", "", "entries written (fifo.<name>.writes)"},
+    {KS_DESC_STAT, "reads", "entries", "", "", "entries read (fifo.<name>.reads)"},
+    {KS_DESC_PART, "ram", "SRAM", "", "",
+     "a 1R1W RAM of capacity x record width; writes and reads each access it once"},
+    {KS_DESC_END, 0, 0, 0, 0, 0}};
+const ks_module_desc ks_fifo_module_desc = {"fifo", "timed FIFO channel between units: bounded, with a latency",
+                                            fifo_items};
+
 /* A method starts waiting on a FIFO event: notify it as the channel's state
  * says (an item readable from now: next delta; the first item not ready
  * yet: at its ready time; free space: next delta). Such a trigger may be

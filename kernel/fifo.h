@@ -28,6 +28,7 @@
 #ifndef KS_FIFO_H
 #define KS_FIFO_H
 
+#include "kernel/module_desc.h"
 #include <stddef.h>
 #include <stdint.h>
 #include <string.h>
@@ -115,6 +116,10 @@ uint32_t ks_fifo_suggested_capacity(const ks_fifo *f);
 int ks_fifo_set_capacity(ks_fifo *f, uint32_t capacity);
 
 /* All FIFOs of a sim, in creation order (auto-sizing, reports). */
+/* Description of a FIFO as a module (--help-module fifo): its parameters,
+ * statistics and its energy and area part (a RAM of capacity x record). */
+extern const ks_module_desc ks_fifo_module_desc;
+
 uint32_t ks_sim_fifo_count(const ks_sim *sim);
 ks_fifo *ks_sim_fifo_at(const ks_sim *sim, uint32_t i);
 

@@ -61,6 +61,7 @@ void ks_module_desc_print(const ks_module_desc *m, FILE *o)
     section(m, KS_DESC_PARAM, "Parameters (--set <module>.<name>=VALUE)", o);
     section(m, KS_DESC_PORT, "Ports", o);
     section(m, KS_DESC_STAT, "Statistics (name, unit, meaning)", o);
+    section(m, KS_DESC_PART, "Energy and area parts (name, class, size and activity)", o);
 }
 
 int ks_module_desc_check(const ks_module_desc *m, char *err, size_t cap)
@@ -75,7 +76,7 @@ int ks_module_desc_check(const ks_module_desc *m, char *err, size_t cap)
     }
     for (const ks_desc_item *it = m->items; it->kind != KS_DESC_END; it++) {
         size_t idx = (size_t)(it - m->items);
-        if (it->kind < KS_DESC_PARAM || it->kind > KS_DESC_STAT) {
+        if (it->kind < KS_DESC_PARAM || it->kind > KS_DESC_PART) {
             snprintf(err, cap, "module %s: item %zu has an unknown kind %d", m->name, idx, (int)it->kind);
             return -1;
         }

@@ -11,6 +11,7 @@
  *     {KS_DESC_PARAM, "ray_slots", "int", "32", "1..1024", "rays in flight per TRV"},
  *     {KS_DESC_PORT,  "node_req", "out fifo<node_req>", "", "", "requests to the node L1"},
  *     {KS_DESC_STAT,  "node_visits", "visits", "", "", "nodes visited"},
+ *     {KS_DESC_PART,  "fpu", "FPU", "", "", "slab tests: FLOPs per cycle; energy per FLOP"},
  *     {KS_DESC_END, 0, 0, 0, 0, 0}};
  *   const ks_module_desc trv_desc = {"trv", "BVH traversal unit", trv_items};
  */
@@ -25,6 +26,9 @@ typedef enum ks_desc_kind {
     KS_DESC_PARAM, /* type = value type ("int", "bool", "double", "enum a|b") */
     KS_DESC_PORT,  /* type = direction and channel ("in fifo<ray>") */
     KS_DESC_STAT,  /* type = unit ("cycles", "accesses") */
+    KS_DESC_PART,  /* an energy and area part: type = its class ("FPU", "SRAM",
+                      "DRAM"), desc = what sets its size and which activity
+                      spends its energy */
 } ks_desc_kind;
 
 typedef struct ks_desc_item {
@@ -42,7 +46,8 @@ typedef struct ks_module_desc {
     const ks_desc_item *items; /* terminated by KS_DESC_END */
 } ks_module_desc;
 
-/* Prints the documentation (sections Parameters, Ports, Statistics). */
+/* Prints the documentation (sections Parameters, Ports, Statistics, Energy
+ * and area parts). */
 void ks_module_desc_print(const ks_module_desc *m, FILE *out);
 /* Item of the given kind and name, or NULL. */
 const ks_desc_item *ks_module_desc_find(const ks_module_desc *m, ks_desc_kind kind,

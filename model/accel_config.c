@@ -2,6 +2,8 @@
  * paper are marked "ours" in the descriptions and the presets. */
 #include "model/accel_config.h"
 
+#include "model/energy.h"
+
 #include <string.h>
 
 static const rtcfg_param trv_params_tab[] = {
@@ -9,7 +11,7 @@ static const rtcfg_param trv_params_tab[] = {
     {"slots", RTCFG_INT, "32", 1, 1024, 0, NULL, "rays", "ray slots = stacks per TRV (paper sec. 3: 32)"},
     {"stack_depth", RTCFG_INT, "64", 1, 4096, 0, NULL, "entries", "entries per ray stack (paper sec. 3: 64)"},
     {"stack_banks", RTCFG_INT, "0", 0, 64, 0, NULL, "banks",
-     "stack memory banks; 0 = N-1, so one visit's pushes never conflict (paper sec. 3.1)"},
+     "stack memory banks; 0 = N for N > 2 (N-1 pushes plus the pop, paper sec. 3.1), 1 for BVH2"},
     {"distance_stack", RTCFG_ENUM, "auto", 0, 0, 0, "auto|on|off", "",
      "distance stack culling; auto = on for N > 2 only (paper sec. 3.1)"},
     {"stages_box", RTCFG_INT, "3", 1, 32, 0, NULL, "stages", "slab test stages: sub, mul, min/max compare (ours)"},
@@ -57,7 +59,8 @@ const char *accel_fifo_key(unsigned i) { return i < 6 ? fifo_keys[i] : NULL; }
 
 int accel_add_schemas(rtcfg *cfg, char *err, size_t errlen)
 {
-    const rtcfg_schema *all[] = {&accel_schema_trv, &accel_schema_ist, &accel_schema_sched, &accel_schema_fifo};
+    const rtcfg_schema *all[] = {&accel_schema_trv, &accel_schema_ist, &accel_schema_sched, &accel_schema_fifo,
+                                 &energy_schema};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         if (rtcfg_add_schema(cfg, all[i], err, errlen))
             return -1;
@@ -76,8 +79,11 @@ void accel_params_get(const rtcfg *cfg, accel_params *o)
     c->slots = I("trv.slots");
     c->stack_depth = I("trv.stack_depth");
     c->stack_banks = I("trv.stack_banks");
+    /* auto (0): N banks for an N-wide MBVH, the N-1 pushes of a visit plus
+     * the pop in distinct banks (paper sec. 3.1: 4 banks for MBVH4, as the
+     * CACTI figures of docs/energy.md assume); one 1R1W bank for BVH2 */
     if (c->stack_banks == 0)
-        c->stack_banks = o->width > 2 ? (uint32_t)o->width - 1 : 1;
+        c->stack_banks = o->width > 2 ? (uint32_t)o->width : 1;
     int ds = rtcfg_enum(cfg, "trv.distance_stack");
     c->distance_cull = ds == 0 ? o->width > 2 : ds == 1;
     o->trv.stages_fetch = I("node_l1.hit_latency");   /* the fetch stages are the node L1 access */

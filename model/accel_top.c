@@ -10,8 +10,10 @@
 #include "kernel/fifo.h"
 #include "kernel/vcd.h"
 #include "model/dram_port.h"
+#include "model/energy.h"
 #include "model/ist.h"
 #include "model/memsys.h"
+#include "model/sort_net.h"
 #include "model/trv.h"
 
 #define SLICE_CYCLES 65536u
@@ -29,6 +31,7 @@ struct accel_top {
     trv_unit *trv;
     ist_unit ist;
     memsys *mem;
+    energy_model *energy;
     ks_fifo **f_new, **f_leaf, **f_ret, **f_done;
     char (*names)[32];
     uint64_t cycles, rays_done;
@@ -66,6 +69,204 @@ static void register_util(ks_stats *st, const char *unit, const uint64_t *busy)
     char nm[96];
     snprintf(nm, sizeof nm, "%s.utilization", unit);
     ks_stat_formula(st, nm, "fraction", "busy cycles / frame cycles", util_formula, (void *)busy);
+}
+
+static double fifo_writes_fn(const ks_stats *reg, void *user)
+{
+    (void)reg;
+    return (double)ks_fifo_total_writes(user);
+}
+
+static double fifo_reads_fn(const ks_stats *reg, void *user)
+{
+    (void)reg;
+    return (double)ks_fifo_total_reads(user);
+}
+
+/* fifo.<name>.writes and .reads for every FIFO of the sim (energy: each
+ * access of a FIFO's RAM). */
+static int register_fifo_stats(accel_top *t)
+{
+    int rc = 0;
+    for (uint32_t i = 0; i < ks_sim_fifo_count(t->sim); i++) {
+        ks_fifo *f = ks_sim_fifo_at(t->sim, i);
+        char nm[128];
+        snprintf(nm, sizeof nm, "fifo.%s.writes", ks_fifo_name(f));
+        rc |= ks_stat_formula(t->stats, nm, "entries", "entries written to the FIFO", fifo_writes_fn, f);
+        snprintf(nm, sizeof nm, "fifo.%s.reads", ks_fifo_name(f));
+        rc |= ks_stat_formula(t->stats, nm, "entries", "entries read from the FIFO", fifo_reads_fn, f);
+    }
+    return rc;
+}
+
+/* The memory-side FIFO keys that carry a cache line, and whose line: the
+ * rest carry requests (energy.fifo_request_bytes). */
+static double fifo_data_bytes(const rtcfg *cfg, const char *key)
+{
+    double l1 = (double)rtcfg_int(cfg, "node_l1.line"), l2 = (double)rtcfg_int(cfg, "node_l2.line"),
+           prim = (double)rtcfg_int(cfg, "prim.line");
+    if (!strcmp(key, "fifo.mem_l1_fill") || !strcmp(key, "fifo.mem_l2_resp"))
+        return l1;
+    if (!strcmp(key, "fifo.mem_l2_fill"))
+        return l2;
+    if (!strcmp(key, "fifo.mem_prim_fill"))
+        return prim;
+    if (!strcmp(key, "fifo.mem_resp") || !strcmp(key, "fifo.mem_dram_resp"))
+        return l2 > prim ? l2 : prim;
+    return 0;
+}
+
+static int energy_fifo_index(energy_machine *m, const char *key)
+{
+    for (int i = 0; i < m->nfifo; i++)
+        if (!strcmp(m->fifo[i].key, key))
+            return i;
+    return -1;
+}
+
+static void energy_add_fifo(energy_machine *m, const char *key, double entries, double width)
+{
+    int i = energy_fifo_index(m, key);
+    if (i < 0 && m->nfifo < (int)(sizeof m->fifo / sizeof m->fifo[0])) {
+        i = m->nfifo++;
+        m->fifo[i].key = key;
+        m->fifo[i].entries = entries;
+        m->fifo[i].width_bytes = width;
+    }
+    if (i >= 0)
+        m->fifo[i].count++;
+}
+
+/* The machine as the energy model sees it: its FPUs, stacks, caches and
+ * FIFOs (energy.h). */
+static energy_model *build_energy_model(accel_top *t, const rtcfg *cfg, char *err, size_t errlen)
+{
+    energy_machine m = {0};
+    const trv_core_params *c = &t->p.trv.core;
+    m.trv_count = t->p.trv_count;
+    m.trv_flop_units = (double)t->p.width * t->p.trv.box_flops + sort_net_get(t->p.width)->ncmps;
+    m.ist_flop_units = t->p.ist.flops_per_test;
+    m.stack_slots = c->slots;
+    m.stack_depth = c->stack_depth;
+    m.stack_banks = c->stack_banks;
+    /* a node reference, plus its distance with the distance stack (sec. 3.1) */
+    m.stack_entry_bytes = c->distance_cull ? 8 : 4;
+    static const char *const caches[3] = {"node_l1", "node_l2", "prim"};
+    for (int i = 0; i < 3; i++) {
+        char k[64];
+#define CACHE_KEY(field) (snprintf(k, sizeof k, "%s.%s", caches[i], field), rtcfg_int(cfg, k))
+        m.cache[i].name = caches[i];
+        m.cache[i].count = i == 0 ? t->p.trv_count : 1;
+        m.cache[i].size = (double)CACHE_KEY("size");
+        m.cache[i].line = (double)CACHE_KEY("line");
+        m.cache[i].ways = (double)CACHE_KEY("ways");
+        m.cache[i].ports = (unsigned)CACHE_KEY("ports");
+        m.cache[i].banks = (unsigned)CACHE_KEY("banks");
+#undef CACHE_KEY
+    }
+    m.ncache = 3;
+    double ray_bytes = (double)rtcfg_int(cfg, "energy.fifo_ray_bytes");
+    for (uint32_t i = 0; i < t->p.trv_count; i++) {
+        energy_add_fifo(&m, "fifo.ray_new", t->p.fifo_new, ray_bytes);
+        energy_add_fifo(&m, "fifo.ray_leaf", t->p.fifo_leaf, ray_bytes);
+        energy_add_fifo(&m, "fifo.ray_return", t->p.fifo_return, ray_bytes);
+        energy_add_fifo(&m, "fifo.ray_done", t->p.fifo_done, ray_bytes);
+        energy_add_fifo(&m, "fifo.ray_trv_loop", t->p.fifo_trv_loop, ray_bytes);
+    }
+    energy_add_fifo(&m, "fifo.ray_ist_loop", t->p.fifo_ist_loop, ray_bytes);
+    double req_bytes = (double)rtcfg_int(cfg, "energy.fifo_request_bytes");
+    for (int i = 0; i < memsys_fifo_count(t->mem); i++) {
+        const char *key = NULL;
+        ks_fifo *f = memsys_fifo_at(t->mem, i, &key);
+        if (!key)
+            continue;
+        double data = fifo_data_bytes(cfg, key);
+        energy_add_fifo(&m, key, ks_fifo_capacity(f), data > 0 ? data : req_bytes);
+    }
+    m.dram_modeled = memsys_dram_port(t->mem) && *rtcfg_str(cfg, "memory.dram_power");
+    m.fixed_mem_pj_per_byte = rtcfg_real(cfg, "energy.fixed_mem_pj_per_byte");
+    energy_model *em = energy_model_create(cfg, &m, err, errlen);
+    /* every part must be declared in its unit's description (--help-module),
+     * so a unit cannot add energy or area unseen */
+    for (int i = 0; em && i < em->nparts; i++) {
+        const energy_part *p = &em->parts[i];
+        const ks_module_desc *d = p->module ? accel_module_desc(p->module) : NULL;
+        if (!d || !ks_module_desc_find(d, KS_DESC_PART, p->decl)) {
+            snprintf(err, errlen, "energy part %s is not declared in the description of module %s", p->name,
+                     p->module ? p->module : "(none)");
+            energy_model_destroy(em);
+            em = NULL;
+        }
+    }
+    return em;
+}
+
+static double stat_or_zero(const ks_stats *st, const char *name)
+{
+    double v = 0;
+    return ks_stats_value(st, name, &v) == 0 ? v : 0.0;
+}
+
+/* Activity of the run from the statistics registry and the FIFOs' counters. */
+static void compute_energy(accel_top *t)
+{
+    energy_model *em = t->energy;
+    const energy_machine *m = &em->m;
+    energy_activity a = {0};
+    char k[96];
+    a.seconds = t->seconds;
+    double comparators = sort_net_get(t->p.width)->ncmps;
+    for (uint32_t i = 0; i < t->p.trv_count; i++) {
+        /* slab tests of all lanes, and one FLOP per comparator of each sort */
+        snprintf(k, sizeof k, "%s.flops", t->names[i]);
+        a.trv_flops += stat_or_zero(t->stats, k);
+        snprintf(k, sizeof k, "%s.sort_passes", t->names[i]);
+        a.trv_flops += comparators * stat_or_zero(t->stats, k);
+        snprintf(k, sizeof k, "%s.stack_pops", t->names[i]);
+        a.stack_reads += stat_or_zero(t->stats, k);
+        snprintf(k, sizeof k, "%s.stack_pushes", t->names[i]);
+        a.stack_writes += stat_or_zero(t->stats, k);
+        snprintf(k, sizeof k, "node_l1_%u.accesses", i);
+        a.cache_reads[0] += stat_or_zero(t->stats, k);
+        snprintf(k, sizeof k, "node_l1_%u.fills", i);
+        a.cache_writes[0] += stat_or_zero(t->stats, k);
+        /* the loop ring of a TRV: every ray issued from it was written to it */
+        int f = energy_fifo_index(&em->m, "fifo.ray_trv_loop");
+        snprintf(k, sizeof k, "%s.issue_loop", t->names[i]);
+        a.fifo_reads[f] += stat_or_zero(t->stats, k);
+        a.fifo_writes[f] += stat_or_zero(t->stats, k);
+        ks_fifo *ray_fifos[4] = {t->f_new[i], t->f_leaf[i], t->f_ret[i], t->f_done[i]};
+        static const char *const ray_keys[4] = {"fifo.ray_new", "fifo.ray_leaf", "fifo.ray_return", "fifo.ray_done"};
+        for (int j = 0; j < 4; j++) {
+            f = energy_fifo_index(&em->m, ray_keys[j]);
+            a.fifo_reads[f] += (double)ks_fifo_total_reads(ray_fifos[j]);
+            a.fifo_writes[f] += (double)ks_fifo_total_writes(ray_fifos[j]);
+        }
+    }
+    int f = energy_fifo_index(&em->m, "fifo.ray_ist_loop");
+    a.fifo_reads[f] = a.fifo_writes[f] = stat_or_zero(t->stats, "ist.loops_miss") +
+                                         stat_or_zero(t->stats, "ist.loops_blocked");
+    a.ist_flops = stat_or_zero(t->stats, "ist.flops");
+    a.cache_reads[1] = stat_or_zero(t->stats, "node_l2.accesses");
+    a.cache_writes[1] = stat_or_zero(t->stats, "node_l2.fills");
+    a.cache_reads[2] = stat_or_zero(t->stats, "prim.accesses");
+    a.cache_writes[2] = stat_or_zero(t->stats, "prim.fills");
+    for (int i = 0; i < memsys_fifo_count(t->mem); i++) {
+        const char *key = NULL;
+        ks_fifo *fi = memsys_fifo_at(t->mem, i, &key);
+        int j = key ? energy_fifo_index(&em->m, key) : -1;
+        if (j < 0)
+            continue;
+        a.fifo_reads[j] += (double)ks_fifo_total_reads(fi);
+        a.fifo_writes[j] += (double)ks_fifo_total_writes(fi);
+    }
+    if (m->dram_modeled) {
+        double total = stat_or_zero(t->stats, "dram.energy_uJ"), bg = stat_or_zero(t->stats, "dram.background_energy_uJ");
+        a.dram_dynamic_nj = (total - bg) * 1e3;
+        a.dram_static_nj = bg * 1e3;
+    }
+    a.dram_bytes = (double)t->stat_dram_bytes;
+    energy_compute(em, &a, t->mrps);
 }
 
 accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const accel_source *src,
@@ -199,6 +400,13 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     }
     ist_register(&t->ist, "ist", t->stats, t->vcd);
     register_util(t->stats, "ist", &t->ist.busy_cycles);
+    /* energy and area: a part without a figure fails here, at start-up */
+    if (register_fifo_stats(t)) {
+        snprintf(err, errlen, "FIFO statistics: %s", ks_stats_error(t->stats));
+        goto fail;
+    }
+    if (!(t->energy = build_energy_model(t, cfg, err, errlen)) || energy_register_stats(t->energy, t->stats, err, errlen))
+        goto fail;
     return t;
 fail:
     accel_top_destroy(t);
@@ -211,6 +419,7 @@ void accel_top_destroy(accel_top *t)
         return;
     if (t->vcd)
         ks_vcd_close(t->vcd);
+    energy_model_destroy(t->energy);
     if (t->trv)
         for (uint32_t i = 0; i < t->p.trv_count; i++)
             trv_free(&t->trv[i]);
@@ -252,6 +461,8 @@ static void finish_stats(accel_top *t, uint64_t stop_cycle)
     t->stat_dram_bytes = t->mem ? memsys_memory_bytes(t->mem) : 0;
     t->stat_dram_gbs = t->seconds > 0 ? (double)t->stat_dram_bytes / t->seconds / 1e9 : 0.0;
     t->stat_in_flight = sched_mean_in_flight(&t->sched, t->cycles);
+    if (t->energy)
+        compute_energy(t);
 }
 
 /* Appends one line per busy unit and its cache to err (watchdog report). */
@@ -388,6 +599,8 @@ void accel_top_print_summary(accel_top *t, FILE *out)
             (unsigned long long)cs.accesses);
     fprintf(out, "DRAM        %.2f MB, %.2f GB/s (%s memory)\n", (double)t->stat_dram_bytes / 1e6, t->stat_dram_gbs,
             memsys_memory_model(t->mem) == MEMSYS_LPDDR3 ? "LPDDR3" : "fixed-latency");
+    if (t->energy)
+        energy_print_summary(t->energy, out);
 }
 
 /* First power of two strictly above the ring's maximum occupancy. */
@@ -450,7 +663,8 @@ int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen)
     return 0;
 }
 
-static const ks_module_desc *const all_descs[] = {&trv_module_desc, &ist_module_desc, &sched_module_desc};
+static const ks_module_desc *const all_descs[] = {&trv_module_desc, &ist_module_desc, &sched_module_desc,
+                                                  &ks_fifo_module_desc};
 
 const ks_module_desc *accel_module_desc(const char *name)
 {

@@ -34,6 +34,8 @@ static const ks_desc_item cache_unit_items[] = {
     {KS_DESC_STAT, "bytes_filled", "bytes", "", "", "bytes brought in from the next level"},
     {KS_DESC_STAT, "hit_rate", "ratio", "", "", "hits / accesses (every retry of a looping ray is an access)"},
     {KS_DESC_STAT, "line_hit_rate", "ratio", "", "", "hits / (hits + miss_lines): each missing line counted once"},
+    {KS_DESC_PART, "sram", "SRAM", "", "",
+     "banks arrays of size/banks, sequential access (CACTI); accesses read, fills write (docs/energy.md)"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
 const ks_module_desc cache_unit_desc = {

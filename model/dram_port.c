@@ -20,6 +20,7 @@ enum {
     PS_ROW_HIT_RATE,
     PS_BURST_READ_LAT,
     PS_ENERGY_UJ,
+    PS_BACKGROUND_UJ,
     PS_COUNT
 };
 
@@ -313,6 +314,11 @@ static double port_stat(const ks_stats *reg, void *user)
         dram_summary_compute(p->c, p->power, &s);
         return s.energy_uJ;
     }
+    case PS_BACKGROUND_UJ: {
+        dram_summary s;
+        dram_summary_compute(p->c, p->power, &s);
+        return (s.energy.act_stby_pJ + s.energy.pre_stby_pJ) / 1e6;
+    }
     default: return 0.0;
     }
 }
@@ -355,6 +361,9 @@ static const ks_desc_item port_items[] = {
     {KS_DESC_STAT, "row_hit_rate", "fraction", "", "", "row hits / (hits + misses + conflicts)"},
     {KS_DESC_STAT, "burst_read_latency_mean", "cycles", "", "", "mean burst read latency (Ramulator's figure)"},
     {KS_DESC_STAT, "energy_uJ", "uJ", "", "", "DRAM energy, DRAMPower method (only with a power file)"},
+    {KS_DESC_STAT, "background_energy_uJ", "uJ", "", "", "part of energy_uJ spent in active and precharge standby (static)"},
+    {KS_DESC_PART, "dram", "DRAM", "", "",
+     "off chip, no area; ACT/PRE/RD/WR/REF energy and background standby (DRAMPower method)"},
     {KS_DESC_END, 0, 0, 0, 0, 0}};
 
 const ks_module_desc dram_port_desc = {"dram", "LPDDR3 memory: command-level controller behind timed FIFOs",
@@ -422,6 +431,8 @@ static int register_stats(dram_port *p, ks_stats *st, char *err, size_t errlen)
     rc |= reg_formula(p, st, "burst_read_latency_mean", PS_BURST_READ_LAT);
     if (p->power)
         rc |= reg_formula(p, st, "energy_uJ", PS_ENERGY_UJ);
+    if (p->power)
+        rc |= reg_formula(p, st, "background_energy_uJ", PS_BACKGROUND_UJ);
     if (rc)
         snprintf(err, errlen, "%s: cannot register statistics: %s", p->name, ks_stats_error(st));
     return rc;

@@ -17,6 +17,7 @@ static const ks_desc_item items[] = {
     {KS_DESC_STAT, "bytes", "bytes", "", "", "bytes transferred"},
     {KS_DESC_STAT, "latency_sum", "cycles", "", "", "sum over requests of accept-to-response cycles"},
     {KS_DESC_STAT, "bus_busy_cycles", "cycles", "", "", "cycles the data bus was transferring"},
+    {KS_DESC_PART, "dram", "DRAM", "", "", "off chip, no area; bytes x energy.fixed_mem_pj_per_byte"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
 const ks_module_desc fixed_mem_desc = {"fixed_mem", "fixed-latency main memory with a bandwidth limit", items};

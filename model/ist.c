@@ -19,6 +19,8 @@ static const ks_desc_item ist_items[] = {
     {KS_DESC_STAT, "hits", "tests", "", "", "tests that found an intersection in range"},
     {KS_DESC_STAT, "loops_miss", "tests", "", "", "tests invalidated by a primitive cache miss"},
     {KS_DESC_STAT, "flops", "FLOP", "", "", "FLOPs of committed and invalidated tests"},
+    {KS_DESC_PART, "fpu", "FPU", "", "",
+     "one Wald test per cycle: ist.flops_per_test FLOP units; energy per FLOP of committed and invalidated tests"},
     {KS_DESC_END, 0, 0, 0, 0, 0}};
 
 const ks_module_desc ist_module_desc = {"ist", "ray-triangle intersection unit (Wald 2004), fully pipelined", ist_items};

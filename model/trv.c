@@ -8,7 +8,7 @@ static const ks_desc_item trv_items[] = {
     {KS_DESC_PARAM, "trv.count", "int", "4", "1..64", "TRV units per IST (paper sec. 3)"},
     {KS_DESC_PARAM, "trv.slots", "int", "32", "1..1024", "ray slots (stacks) per TRV (paper sec. 3)"},
     {KS_DESC_PARAM, "trv.stack_depth", "int", "64", "1..4096", "entries per ray stack (paper sec. 3)"},
-    {KS_DESC_PARAM, "trv.stack_banks", "int", "0", "0..64", "stack memory banks; 0 = N-1 (conflict-free pushes, sec. 3.1)"},
+    {KS_DESC_PARAM, "trv.stack_banks", "int", "0", "0..64", "stack memory banks; 0 = N for N > 2 (N-1 pushes plus the pop, sec. 3.1), 1 for BVH2"},
     {KS_DESC_PARAM, "trv.distance_stack", "enum auto|on|off", "auto", "", "distance stack culling; auto = on for N > 2 (sec. 3.1)"},
     {KS_DESC_PARAM, "trv.stages_box", "int", "3", "1..32", "pipeline stages of the slab test"},
     {KS_DESC_PARAM, "trv.stages_stack", "int", "1", "1..8", "pipeline stages of the stack access"},
@@ -30,9 +30,16 @@ static const ks_desc_item trv_items[] = {
     {KS_DESC_STAT, "stack_pushes", "entries", "", "", "stack entries written"},
     {KS_DESC_STAT, "stack_pops", "entries", "", "", "stack entries read (pops and culls)"},
     {KS_DESC_STAT, "stack_conflict_cycles", "cycles", "", "", "issue stalls from stack bank conflicts"},
+    {KS_DESC_STAT, "stack_max_depth", "entries", "", "", "deepest stack of any ray slot"},
+    {KS_DESC_STAT, "stack_bankB_writes", "entries", "", "", "stack entries written to bank B (one per bank)"},
+    {KS_DESC_STAT, "stack_bankB_reads", "entries", "", "", "stack entries read from bank B (pops and culls)"},
     {KS_DESC_STAT, "culls", "entries", "", "", "stack entries discarded by the distance stack"},
     {KS_DESC_STAT, "exit_stall_cycles", "cycles", "", "", "cycles the exit stage waited for a full output FIFO"},
     {KS_DESC_STAT, "flops", "FLOP", "", "", "slab test FLOPs (all N lanes per visit)"},
+    {KS_DESC_PART, "fpu", "FPU", "", "",
+     "slab tests and sort: branching x trv.box_flops + comparators FLOP units; energy per FLOP (docs/energy.md)"},
+    {KS_DESC_PART, "stack_bank", "SRAM", "", "",
+     "trv.stack_banks RAMs of trv.slots x depth/banks entries, 1R1W; pushes write, pops and culls read"},
     {KS_DESC_END, 0, 0, 0, 0, 0}};
 
 const ks_module_desc trv_module_desc = {"trv", "BVH/MBVH traversal unit: node fetch, slab tests, sort, banked stack",
@@ -141,6 +148,15 @@ void trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd)
         ks_stat_counter_ref_in(st, name, "stack_pops", "entries", "stack entries read (pops and culls)", &s->pops);
         ks_stat_counter_ref_in(st, name, "stack_ops", "operations", "stack operations (one per pass that touches the stack)", &s->ops);
         ks_stat_counter_ref_in(st, name, "stack_conflict_cycles", "cycles", "issue stalls from stack bank conflicts", &s->conflict_cycles);
+        ks_stat_counter_ref_in(st, name, "stack_max_depth", "entries", "deepest stack of any ray slot", &s->max_depth_stat);
+        for (uint32_t b = 0; b < t->core.stack.banks; b++) {
+            char bn[48];
+            snprintf(bn, sizeof bn, "stack_bank%u_writes", b);
+            ks_stat_counter_ref_in(st, name, bn, "entries", "stack entries written to this bank", &s->bank_writes[b]);
+            snprintf(bn, sizeof bn, "stack_bank%u_reads", b);
+            ks_stat_counter_ref_in(st, name, bn, "entries", "stack entries read from this bank (pops and culls)",
+                                   &s->bank_reads[b]);
+        }
         ks_stat_counter_ref_in(st, name, "culls", "entries", "stack entries discarded by the distance stack", &c->culls);
         ks_stat_counter_ref_in(st, name, "to_ist", "rays", "rays sent to the IST with a leaf", &c->to_ist);
         ks_stat_counter_ref_in(st, name, "done", "rays", "rays finished", &c->done);

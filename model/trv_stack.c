@@ -7,7 +7,7 @@
 bool trv_stack_init(trv_stack *s, uint32_t slots, uint32_t depth, uint32_t banks, char *err, unsigned errlen)
 {
     *s = (trv_stack){0};
-    if (slots < 1 || slots > 65536 || depth < 1 || depth > 4096 || banks < 1 || banks > 64) {
+    if (slots < 1 || slots > 65536 || depth < 1 || depth > 4096 || banks < 1 || banks > TRV_STACK_MAX_BANKS) {
         snprintf(err, errlen,
                  "trv stack: slots %u (allowed 1..65536), depth %u (allowed 1..4096), banks %u (allowed 1..64)", slots,
                  depth, banks);

@@ -18,6 +18,8 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#define TRV_STACK_MAX_BANKS 64
+
 typedef struct trv_stack_entry {
     uint32_t ref, meta;
     float tnear;
@@ -29,6 +31,9 @@ typedef struct trv_stack_stats {
     uint64_t conflict_cycles;        /* extra cycles from bank conflicts */
     uint64_t overflows;
     uint32_t max_depth;              /* deepest stack seen in any slot */
+    uint64_t max_depth_stat;         /* max_depth as a counter, for the statistics registry */
+    /* entries written / read per bank (energy: each bank is one SRAM) */
+    uint64_t bank_writes[TRV_STACK_MAX_BANKS], bank_reads[TRV_STACK_MAX_BANKS];
 } trv_stack_stats;
 
 typedef struct trv_stack {
@@ -78,12 +83,14 @@ static inline int trv_stack_push(trv_stack *s, uint32_t slot, const trv_stack_en
         return -1;
     }
     trv_stack_entry *base = s->mem + (size_t)slot * s->depth;
-    for (uint32_t i = 0; i < k; i++)
+    for (uint32_t i = 0, b = sp % s->banks; i < k; i++, b = b + 1 == s->banks ? 0 : b + 1) {
         base[sp + i] = e[i];
+        s->st.bank_writes[b]++;
+    }
     uint32_t cycles = trv_stack_cycles(s, sp, k);
     s->sp[slot] = sp + k;
     if (sp + k > s->st.max_depth)
-        s->st.max_depth = sp + k;
+        s->st.max_depth_stat = s->st.max_depth = sp + k;
     s->st.pushes += k;
     trv_stack_count_op_(s, cycles);
     return (int)cycles;
@@ -110,6 +117,8 @@ static inline int trv_stack_pop(trv_stack *s, uint32_t slot, uint32_t k)
     if (k > sp)
         k = sp;
     uint32_t cycles = trv_stack_cycles(s, sp - k, k);
+    for (uint32_t i = 0, b = (sp - k) % s->banks; i < k; i++, b = b + 1 == s->banks ? 0 : b + 1)
+        s->st.bank_reads[b]++;
     s->sp[slot] = sp - k;
     s->st.pops += k;
     trv_stack_count_op_(s, cycles);

@@ -1,0 +1,81 @@
+"""rtsim_runs — running rtsim points for the experiment scripts
+(scripts/paper-tables, scripts/sensitivity): one JSON per point in a runs
+folder, reused when present (an interrupted script resumes), points run in
+parallel, every failure reported with its command and rtsim's message.
+Standard library only."""
+import concurrent.futures as cf
+import hashlib
+import json
+import os
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+DEFAULT_BIN = os.path.join(ROOT, "build", "bin", "rtsim")
+
+
+def die(tool, msg):
+    print("%s: %s" % (tool, msg), file=sys.stderr)
+    sys.exit(2)
+
+
+def scene_key(scene):
+    """Short name of a scene argument: a built-in name or a file's base name."""
+    b = os.path.basename(scene)
+    for ext in (".scene", ".gz", ".obj", ".ply"):
+        if b.endswith(ext):
+            b = b[: -len(ext)]
+    return b
+
+
+def point_name(scene, rays, machine, res, sets=()):
+    """File name of a point: readable, plus a hash of the overrides."""
+    name = "%s_%s_%s_%s" % (scene_key(scene), rays, machine, res)
+    if sets:
+        name += "_" + hashlib.sha1("\n".join(sets).encode()).hexdigest()[:12]
+    return name + ".json"
+
+
+def run_point(rtsim, runs_dir, scene, rays, machine, res, sets=()):
+    """Statistics of one point, running rtsim unless its JSON exists (rtsim
+    writes it under a temporary name and renames it when complete)."""
+    path = os.path.join(runs_dir, point_name(scene, rays, machine, res, sets))
+    if not os.path.exists(path):
+        cmd = [rtsim, scene, "--res", res, "--rays", rays, "--machine", machine, "--quiet", "--json", path]
+        for s in sets:
+            cmd += ["--set", s]
+        p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        if p.returncode != 0:
+            raise RuntimeError("%s: exit %d: %s" % (" ".join(cmd), p.returncode, p.stderr.strip()[-400:]))
+    with open(path) as f:
+        return json.load(f)
+
+
+def run_all(tool, rtsim, runs_dir, points, jobs):
+    """points: list of (scene, rays, machine, res, sets); returns {point: stats}."""
+    os.makedirs(runs_dir, exist_ok=True)
+    out = {}
+    with cf.ThreadPoolExecutor(max_workers=jobs) as ex:
+        fut = {ex.submit(run_point, rtsim, runs_dir, *p): p for p in points}
+        for f in cf.as_completed(fut):
+            try:
+                out[fut[f]] = f.result()
+            except Exception as e:
+                die(tool, str(e))
+    return out
+
+
+def write_atomic(path, text):
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        f.write(text)
+    os.replace(tmp, path)
+
+
+def gnuplot(tool, script, outputs):
+    """Runs a gnuplot script that writes OUT.tmp for each OUT, then renames."""
+    p = subprocess.run(["gnuplot"], input=script, text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
+    if p.returncode != 0:
+        die(tool, "gnuplot failed: %s" % p.stderr.strip())
+    for o in outputs:
+        os.replace(o + ".tmp", o)

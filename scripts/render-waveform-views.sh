@@ -46,7 +46,7 @@ mkdir -p docs/images
 for view in waveforms/*.gtkw; do
   v=$(basename "$view" .gtkw)
   mapfile -t args < <(scripts/gtkw_dump_args.py "$view")
-  for i in "${!args[@]}"; do [ "${args[$i]}" = waveforms/rtsim.vcd ] && args[$i]=$work/rtsim.vcd; done
+  for i in "${!args[@]}"; do [ "${args[$i]}" = waveforms/rtsim.vcd ] && args[i]=$work/rtsim.vcd; done
   "$build/bin/rtsim" "${args[@]}" --quiet
   xvfb-run -a -s "-screen 0 1600x1000x24" "$root/scripts/render-waveform-views.sh" --grab "$work/rtsim.vcd" "$root/$view" "$work/$v.png"
   mv "$work/$v.png" "docs/images/waveform-$v.png"

@@ -65,6 +65,9 @@ check_view() {
   if echo "$out" | grep -q "Could not initialize GTK"; then
     echo "SKIP ${name}: no X server could be started (GTKWave: Could not initialize GTK)"; return
   fi
+  if echo "$out" | grep -q "^xvfb-run: error"; then
+    echo "SKIP ${name}: no X server could be started ($(echo "$out" | grep -m1 '^xvfb-run: error'))"; return
+  fi
   echo "$out" >"$tmp/$name.gtkwave.out"
   local why
   why=$(python3 - "$tmp/$name.gtkwave.out" <(expected_traces "$view") <<'PY'
@@ -128,9 +131,9 @@ make_dump() {
   fi
   local i
   for i in "${!args[@]}"; do
-    [ "${args[$i]}" = waveforms/rtsim.vcd ] && args[$i]=$vcd
+    [ "${args[$i]}" = waveforms/rtsim.vcd ] && args[i]=$vcd
     # a smaller frame under the sanitizers (the window's cycles are still run)
-    [ -n "${RTSIM_TB_SANITIZED:-}" ] && [ "${args[$i]}" = 64x36 ] && args[$i]=32x18
+    [ -n "${RTSIM_TB_SANITIZED:-}" ] && [ "${args[$i]}" = 64x36 ] && args[i]=32x18
   done
   if ! "$bin" "${args[@]}" "$@" --quiet >"$tmp/dump.out" 2>&1 || [ ! -s "$vcd" ]; then
     fail "$(basename "$view" .gtkw)_dump" "rtsim ${args[*]} failed: $(head -3 "$tmp/dump.out" | tr '\n' ' ')"; return 1
@@ -159,7 +162,7 @@ sed -e 's/\[[0-9]*:[0-9]*\]$//' "$ov" >"$tmp/no_ranges.gtkw"
 if [ -s "$tmp/accel_overview.vcd" ]; then
   out=$(cd "$tmp" && timeout 120 "${xrun[@]}" gtkwave -S "$tmp/list.tcl" "$tmp/accel_overview.vcd" \
         "$tmp/no_ranges.gtkw" 2>&1)
-  if echo "$out" | grep -q "Could not initialize GTK"; then
+  if echo "$out" | grep -q -e "Could not initialize GTK" -e "^xvfb-run: error"; then
     echo "SKIP views_control_dropped_vectors: no X server could be started"
   else
     nsig=$(echo "$out" | grep -c '^SIG ')

@@ -8,11 +8,11 @@
 #   - the dump is made by the rtsim command written in the view's header
 #     (window, filter and machine as documented; only the output path and,
 #     under the sanitizers, the frame size differ);
-#   - <view>_traces: every trace the view names is displayed, none is missing;
-#   - <view>_labels: each trace's label is its unit and variable ("trv0 state",
+#   - gtkw_<view>_traces: every trace the view names is displayed, none is missing;
+#   - gtkw_<view>_labels: each trace's label is its unit and variable ("trv0 state",
 #     the dotted name with spaces, see waveforms/accel_overview.gtkw), and no
 #     two traces share a label;
-#   - <view>_window: the view opens on a useful window (at least 50 cycles of
+#   - gtkw_<view>_window: the view opens on a useful window (at least 50 cycles of
 #     the default 500 MHz clock, inside the dump), not GTKWave's 0..5 ns.
 # Also: accel_overview on a bvh2 dump (it claims both machines), and a control
 # that the check fails when it should (the overview with its bit ranges
@@ -146,14 +146,14 @@ for view in "$root"/waveforms/*.gtkw; do
   nviews=$((nviews + 1))
   v=$(basename "$view" .gtkw)
   make_dump "$view" "$tmp/$v.vcd" || continue
-  check_view "views_$v" "$view" "$tmp/$v.vcd"
+  check_view "gtkw_$v" "$view" "$tmp/$v.vcd"
 done
-check "views_found" [ "$nviews" -ge 2 ]
+check "gtkw_views_found" [ "$nviews" -ge 2 ]
 
 # The overview on the other machine's dump.
 ov=$root/waveforms/accel_overview.gtkw
 if make_dump "$ov" "$tmp/overview_bvh2.vcd" --machine bvh2; then
-  check_view "views_accel_overview_on_bvh2" "$ov" "$tmp/overview_bvh2.vcd"
+  check_view "gtkw_accel_overview_on_bvh2" "$ov" "$tmp/overview_bvh2.vcd"
 fi
 
 # Control: the overview without bit ranges (how the views were first written)
@@ -163,12 +163,12 @@ if [ -s "$tmp/accel_overview.vcd" ]; then
   out=$(cd "$tmp" && timeout 120 "${xrun[@]}" gtkwave -S "$tmp/list.tcl" "$tmp/accel_overview.vcd" \
         "$tmp/no_ranges.gtkw" 2>&1)
   if echo "$out" | grep -q -e "Could not initialize GTK" -e "^xvfb-run: error"; then
-    echo "SKIP views_control_dropped_vectors: no X server could be started"
+    echo "SKIP gtkw_control_dropped_vectors: no X server could be started"
   else
     nsig=$(echo "$out" | grep -c '^SIG ')
     nexp=$(expected_traces "$tmp/no_ranges.gtkw" | grep -c .)
     nvec=$(expected_traces "$ov" | grep -c '\]$')
-    if [ "$nvec" -gt 0 ] && [ "$nsig" -eq $((nexp - nvec)) ]; then pass views_control_dropped_vectors
-    else fail views_control_dropped_vectors "without bit ranges GTKWave showed $nsig of $nexp traces, expected $((nexp - nvec)) (the $nvec vectors dropped)"; fi
+    if [ "$nvec" -gt 0 ] && [ "$nsig" -eq $((nexp - nvec)) ]; then pass gtkw_control_dropped_vectors
+    else fail gtkw_control_dropped_vectors "without bit ranges GTKWave showed $nsig of $nexp traces, expected $((nexp - nvec)) (the $nvec vectors dropped)"; fi
   fi
 fi

@@ -42,7 +42,7 @@ check sweep_plan_stable_names cmp -s <(tail -n +2 "$tmp/plan1/jobs.tsv" | cut -f
 out=$("$sweep" "${grid[@]}" --out "$tmp/full" 2>&1); rc=$?
 check sweep_full_exit_0 test $rc -eq 0
 check sweep_full_six_results test "$(ls "$tmp/full/results" | grep -c '\.json$')" -eq 6
-header="point,scene,rays,machine,res,node_l1.size,set,args,rays_traced,cycles,run_failed,mrps,dram_mb"
+header="point,scene,rays,machine,res,node_l1.size,set,args,rays_traced,cycles,run_failed,mrps,energy_mj,mrps_per_mm2,dram_mb,area_mm2,power_mw"
 check sweep_csv_header test "$(head -n 1 "$tmp/full/results.csv")" = "$header"
 check sweep_csv_six_rows test "$(tail -n +2 "$tmp/full/results.csv" | wc -l)" -eq 6
 # every row carries exactly its point's JSON figures (MRPS as is, DRAM bytes / 1e6)
@@ -53,14 +53,16 @@ for row in csv.DictReader(open(d + "/results.csv")):
     j = json.load(open(f"{d}/results/{row['point']}.json"))
     assert float(row["mrps"]) == j["mrps"], row
     assert float(row["dram_mb"]) == j["dram_bytes"] / 1e6, row
+    for k in ("energy_mj", "mrps_per_mm2", "area_mm2", "power_mw"):
+        assert float(row[k]) == j[k], (k, row)
     assert int(row["cycles"]) == j["cycles"] and int(row["rays_traced"]) == j["rays"], row
     assert row["res"] == "32x18" and row["machine"] in ("bvh2", "mbvh4"), row
 PY
 then pass sweep_csv_equals_json; else fail sweep_csv_equals_json "a CSV row differs from its JSON"; fi
-check sweep_missing_figures_named grep -q "not in rtsim's JSON (no column, no chart): energy_mj, mrps_per_mm2" <<< "$out"
+check sweep_figures_named grep -q "figures of merit: mrps, energy_mj, mrps_per_mm2, dram_mb, area_mm2, power_mw" <<< "$out"
 check sweep_chart_png test "$(head -c 4 "$tmp/full/charts/mrps-vs-node_l1.size.png" | tail -c 3)" = PNG
 check sweep_chart_svg grep -q '<svg' "$tmp/full/charts/dram_mb-vs-node_l1.size.svg"
-check sweep_no_chart_for_missing_figure test ! -e "$tmp/full/charts/energy_mj-vs-node_l1.size.png"
+check sweep_chart_energy test -s "$tmp/full/charts/energy_mj-vs-node_l1.size.png"
 
 # --- a complete sweep run again does nothing and changes nothing
 stamp() { stat -c '%n %i %y' "$1"/results/*.json; }
@@ -153,8 +155,8 @@ out=$("$sweep" --set-grid fifo.ray_trv_loop=1,32 --res 32x32 --rtsim "$bin" --st
 check sweep_deadlock_exit_0 test $rc -eq 0
 check sweep_deadlock_kept test "$(ls "$tmp/deadlock/results" | grep -c '\.json$')" -eq 2
 check sweep_deadlock_run_failed_column test "$(cut -d, -f6,11 "$tmp/deadlock/results.csv" | sort | tr '\n' ' ')" = "1,1 32,0 fifo.ray_trv_loop,run_failed "
-check sweep_stat_column test "$(head -n 1 "$tmp/deadlock/results.csv" | cut -d, -f14)" = sched.completed
+check sweep_stat_column test "$(head -n 1 "$tmp/deadlock/results.csv" | cut -d, -f18)" = sched.completed
 check sweep_stat_values test "$(tail -n +2 "$tmp/deadlock/results.csv" | cut -d, -f9 | tr '\n' ' ')" = \
-  "$(tail -n +2 "$tmp/deadlock/results.csv" | cut -d, -f14 | tr '\n' ' ')"
+  "$(tail -n +2 "$tmp/deadlock/results.csv" | cut -d, -f18 | tr '\n' ' ')"
 check sweep_deadlock_named grep -q "1 of 2 points deadlocked or livelocked" <<< "$out"
 check sweep_deadlock_not_charted test "$(grep -c '^[0-9]' "$tmp/deadlock/charts/mrps-vs-fifo.ray_trv_loop.dat")" -eq 1

@@ -119,7 +119,8 @@ void rtcfg_describe_range(const rtcfg_param *p, char *buf, size_t len)
         snprintf(buf, len, "%s", p->choices ? p->choices : "");
         break;
     case RTCFG_STRING:
-        snprintf(buf, len, "any text");
+        /* choices, when given, describes the text the owner accepts (checked by its schema check) */
+        snprintf(buf, len, "%s", p->choices ? p->choices : "any text");
         break;
     }
 }

@@ -49,7 +49,7 @@ typedef struct rtcfg_param {
     const char *def;      /* default, as text (parsed like a file value) */
     double min, max;      /* int/real: inclusive allowed range */
     unsigned flags;       /* RTCFG_POW2 */
-    const char *choices;  /* enum: "fixed|lpddr3" */
+    const char *choices;  /* enum: "fixed|lpddr3"; string: what it accepts, or NULL = any text */
     const char *unit;     /* "bytes", "cycles", "" ... */
     const char *desc;     /* one line */
 } rtcfg_param;

@@ -70,7 +70,8 @@ typedef struct dram_schema_block {
     rtcfg_param params[DRAM_MAX_ENTRIES];
     char name[DRAM_MAX_ENTRIES][DRAM_NAME_LEN + DRAM_KEY_LEN];
     char def[DRAM_MAX_ENTRIES][DRAM_VALUE_LEN];
-    char desc[DRAM_MAX_ENTRIES][DRAM_KEY_LEN + 96];
+    char desc[DRAM_MAX_ENTRIES][DRAM_KEY_LEN + 48];
+    char range[DRAM_MAX_ENTRIES][96];
     char title[300];
 } dram_schema_block;
 
@@ -80,14 +81,13 @@ static void add_dram_param(void *user, const char *section, const char *key, con
     if (b->n == DRAM_MAX_ENTRIES) /* cannot happen: the loader holds at most as many */
         return;
     int i = b->n++;
-    char range[96];
-    dram_spec_describe_key(section, key, range, sizeof range);
+    dram_spec_describe_key(section, key, b->range[i], sizeof b->range[i]);
     snprintf(b->name[i], sizeof b->name[i], "%s.%s", section, key);
     snprintf(b->def[i], sizeof b->def[i], "%s", value);
-    snprintf(b->desc[i], sizeof b->desc[i], "DRAM file [%s] %s: %s", section, key, range);
+    snprintf(b->desc[i], sizeof b->desc[i], "DRAM file [%s] %s", section, key);
     /* type string: values are integer expressions over [timing] names, checked by
-     * dram_spec_load in check_dram() */
-    b->params[i] = (rtcfg_param){b->name[i], RTCFG_STRING, b->def[i], 0, 0, 0, NULL, "", b->desc[i]};
+     * dram_spec_load in check_dram(); the range text is shown as the allowed values */
+    b->params[i] = (rtcfg_param){b->name[i], RTCFG_STRING, b->def[i], 0, 0, 0, b->range[i], "", b->desc[i]};
 }
 
 int memsys_dram_path(const rtcfg *cfg, char *buf, size_t len)

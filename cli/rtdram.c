@@ -231,8 +231,10 @@ int main(int argc, char **argv)
     if (json) {
         run.trace = trace;
         run.has_cycles = true, run.cycles = (uint64_t)s.dram_cycles;
-        if (json_with_run(&s, &run))
+        if (json_with_run(&s, &run)) {
+            fprintf(stderr, "rtdram: --json: write error\n");
             status = 2;
+        }
     } else {
         double host = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
         printf("trace                %s (%llu requests: %llu reads, %llu writes)\n", trace,

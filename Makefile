@@ -60,8 +60,8 @@ $(BUILD)/lib/%.a:
 	@mkdir -p $(@D)
 	$(AR) rcs $@ $^
 
-# Every tool reports the commit it was built from (cli/version.h).
-$(BUILD)/obj/cli/%.c.o: CPPFLAGS += -DRTSIM_GIT='"$(shell git rev-parse --short HEAD 2>/dev/null || echo unknown)"'
+# Every tool reports the commit it was built from and whether the tree was
+# dirty (cli/version.h): mk/version.mk.
 
 $(BUILD)/obj/%.c.o: %.c
 	@mkdir -p $(@D)

@@ -20,6 +20,7 @@
 #ifndef RTSIM_DATA_DIR
 #define RTSIM_DATA_DIR "model/data"
 #endif
+#include "cli/run_info.h"
 #include "cli/version.h"
 
 static void usage(FILE *o)
@@ -60,8 +61,26 @@ static void on_cmd(void *user, const dram_cmd_rec *r)
         dram_checker_feed(s->checker, r);
 }
 
+/* The summary JSON, one line, with the run object first (cli/run_info.h). */
+static int json_with_run(const dram_summary *s, const cli_run_info *ri)
+{
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *m = open_memstream(&buf, &len);
+    if (!m)
+        return -1;
+    dram_summary_json(s, m);
+    int rc = fclose(m);
+    if (!rc)
+        rc = cli_run_splice(stdout, ri, buf, len, true);
+    free(buf);
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
+    static cli_run_info run;   /* provenance of the JSON (docs/results.md) */
+    cli_run_init(&run, "rtdram", argc, argv);
     static const struct option opts[] = {
         {"config", required_argument, 0, 'c'}, {"power", required_argument, 0, 'p'},
         {"set", required_argument, 0, 's'},    {"json", no_argument, 0, 'j'},
@@ -128,6 +147,8 @@ int main(int argc, char **argv)
         free(sets);
         return 2;
     }
+    run.machine = config;
+    run.has_config_hash = cli_run_dram_hash(config, sets, nsets, power, &run.config_hash);
     free(sets);
     FILE *tf = fopen(trace, "r");
     if (!tf) {
@@ -167,12 +188,15 @@ int main(int argc, char **argv)
         dram_set_cmd_sink(c, on_cmd, &sk);
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
+    double cpu0 = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID);
     dram_trace_result res;
     dram_summary s;
     int rc = kernel ? dram_port_trace_run(&spec, &pspec, tf, trace, sk.f || sk.checker ? on_cmd : NULL, &sk, exhaustive,
                                           &res, &s, err, sizeof err)
                     : dram_trace_run(c, tf, trace, &res, err, sizeof err);
     clock_gettime(CLOCK_MONOTONIC, &t1);
+    run.has_sim = true, run.sim_cpu_s = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
+    run.sim_wall_s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
     fclose(tf);
     if (rc) {
         fprintf(stderr, "rtdram: %s\n", err);
@@ -205,7 +229,12 @@ int main(int argc, char **argv)
             status = 1;
     }
     if (json) {
-        dram_summary_json(&s, stdout);
+        run.trace = trace;
+        run.has_cycles = true, run.cycles = (uint64_t)s.dram_cycles;
+        if (json_with_run(&s, &run)) {
+            fprintf(stderr, "rtdram: --json: write error\n");
+            status = 2;
+        }
     } else {
         double host = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
         printf("trace                %s (%llu requests: %llu reads, %llu writes)\n", trace,

@@ -23,6 +23,7 @@
 #include "tracer/scene.h"
 
 #include "cli/output_path.h"
+#include "cli/run_info.h"
 #include "cli/version.h"
 
 static void usage(FILE *out)
@@ -36,7 +37,8 @@ static void usage(FILE *out)
             "SCENE: a built-in scene (interior, hairball, city, forest; default interior) or an\n"
             "       .obj/.ply(.gz)/.scene file. Defaults: 1280x720, mbvh4, primary rays,\n"
             "       4 bounces, seed 1.\n"
-            "--set KEY=VALUE     override a machine key (e.g. trv.count=8); see --help-module\n"
+            "--set KEY=VALUE     override a machine key (e.g. trv.count=8, or a key of the DRAM\n"
+            "                    standard file: dram.timing.nCL=14); see --help-module\n"
             "--json FILE         every statistic (with units and descriptions) as JSON\n"
             "--vcd FILE          waveforms of all units; --vcd-window A:B limits them to cycles\n"
             "                    [A, B), --vcd-filter a comma-separated list of globs\n"
@@ -46,7 +48,8 @@ static void usage(FILE *out)
             "--exhaustive        step every unit every cycle (no idle skipping; reference mode)\n"
 "--help-module NAME  parameters, ports and statistics of a module (trv, ist, sched,\n"
             "                    cache, arbiter, fixed_mem, dram, ...) and the keys of its\n"
-            "                    configuration section (node_l1, node_l2, prim, memory, fifo, machine)\n");
+            "                    configuration section (node_l1, node_l2, prim, memory, fifo, machine,\n"
+            "                    dram)\n");
 }
 
 static int bad(const char *fmt, const char *a, const char *b)
@@ -88,8 +91,11 @@ static int help_module(const char *name)
 {
     char err[512];
     rtcfg *cfg = make_cfg(err, sizeof err);
-    if (!cfg) {
+    /* finished, so that the deferred [dram] keys (the DRAM standard file's) are listed */
+    if (!cfg || rtcfg_finish(cfg, err, sizeof err)) {
         fprintf(stderr, "rtsim: %s\n", err);
+        if (cfg)
+            rtcfg_destroy(cfg);
         return 2;
     }
     int found = 0;
@@ -112,7 +118,7 @@ static int help_module(const char *name)
     if (!found) {
         fprintf(stderr, "rtsim: --help-module %s: no such module; modules: ", name);
         accel_module_list(stderr);
-        fprintf(stderr, "; configuration sections: node_l1, node_l2, prim, memory, fifo, machine, trv, ist, sched\n");
+        fprintf(stderr, "; configuration sections: node_l1, node_l2, prim, memory, fifo, machine, trv, ist, sched, dram\n");
         return 2;
     }
     return 0;
@@ -166,7 +172,23 @@ static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admi
     fflush(stderr);
 }
 
-static int write_json(ks_stats *st, const char *path, char *err, size_t errlen)
+/* The statistics with the run object (cli/run_info.h) as their first member. */
+static int write_stats_run(ks_stats *st, const cli_run_info *ri, FILE *f)
+{
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *m = open_memstream(&buf, &len);
+    if (!m)
+        return -1;
+    int rc = ks_stats_write_json(st, m);
+    rc |= fclose(m);
+    if (!rc)
+        rc = cli_run_splice(f, ri, buf, len, false);
+    free(buf);
+    return rc ? -1 : 0;
+}
+
+static int write_json(ks_stats *st, const cli_run_info *ri, const char *path, char *err, size_t errlen)
 {
     char tmp[4096];
     snprintf(tmp, sizeof tmp, "%s.tmp", path);
@@ -175,7 +197,7 @@ static int write_json(ks_stats *st, const char *path, char *err, size_t errlen)
         snprintf(err, errlen, "--json %s: cannot create: %s", path, strerror(errno));
         return -1;
     }
-    int rc = ks_stats_write_json(st, f);
+    int rc = write_stats_run(st, ri, f);
     if (fclose(f) || rc) {
         remove(tmp);
         snprintf(err, errlen, "--json %s: write error", path);
@@ -198,6 +220,8 @@ static int write_json(ks_stats *st, const char *path, char *err, size_t errlen)
 
 int main(int argc, char **argv)
 {
+    static cli_run_info run;   /* provenance of the JSON (cli/run_info.h) */
+    cli_run_init(&run, "rtsim", argc, argv);
     const char *scene_name = "interior", *view_name = NULL, *views_file = NULL, *machine = "mbvh4";
     const char *json = NULL, *vcd = NULL, *vcd_filter = NULL, *heatmap = NULL, *autosize = NULL;
     const char *res = "1280x720";
@@ -355,7 +379,17 @@ int main(int argc, char **argv)
                cpu_s > 0 ? (double)accel_top_cycles(top) / cpu_s / 1e6 : 0.0,
                cpu_s > 0 ? (double)accel_top_rays(top) / cpu_s / 1e3 : 0.0);
     }
-    if (json && write_json(accel_top_stats(top), json, err, sizeof err)) {
+    /* provenance (docs/results.md) */
+    run.scene = scene_name, run.views_file = views_file, run.view = view->name;
+    run.has_mesh_hash = true, run.mesh_hash = rt_mesh_hash(&sc.mesh);
+    run.machine = machine;
+    run.has_config_hash = cli_run_config_hash(cfg, &run.config_hash);
+    run.width = w, run.height = h, run.rays = diffuse ? "diffuse" : "primary";
+    run.has_bounces = diffuse, run.bounces = (uint32_t)bounces;
+    run.has_seed = diffuse, run.seed = seed;
+    run.has_sim = true, run.sim_cpu_s = cpu_s, run.sim_wall_s = host_s;
+    run.has_cycles = true, run.cycles = accel_top_cycles(top);
+    if (json && write_json(accel_top_stats(top), &run, json, err, sizeof err)) {
         fprintf(stderr, "rtsim: %s\n", err);
         rc = rc ? rc : 2;
     }

@@ -35,6 +35,7 @@
 #include "tracer/traverse.h"
 
 #include "cli/output_path.h"
+#include "cli/run_info.h"
 #include "cli/version.h"
 #define BOUNCES_MAX 32            /* rt_ray.bounce is 8 bits; 32 is far beyond the paper's 4 */
 /* Issue 3: at least 99.999% of rays identical to Embree on the built-ins. */
@@ -153,6 +154,7 @@ typedef struct stats {
     rt_tlog_totals log;
     bool log_written;
     double build_s, trace_s, wall_s;
+    double trace_cpu_s;           /* host CPU seconds of the tracing loop */
     float visits_max, tris_max;
 } stats;
 
@@ -248,6 +250,46 @@ typedef struct run_info {
     const rt_bvh_image *img;
 } run_info;
 
+/* Provenance (cli/run_info.h, docs/results.md): started in main, filled from
+ * the run by fill_run, written first in the JSON. */
+static cli_run_info g_run;
+
+static void fill_run(const run_info *ri, const stats *s, bool read_mode, const rt_tlog_header *h)
+{
+    const options *o = ri->o;
+    g_run.scene = o->scene, g_run.views_file = o->views;
+    g_run.has_mesh_hash = true, g_run.mesh_hash = rt_mesh_hash(&ri->sc->mesh);
+    /* the tracer's settings in place of a machine configuration */
+    cli_run_lines l = {0};
+    char v[32];
+    snprintf(v, sizeof v, "%d", ri->bp->width);
+    cli_run_lines_add(&l, "bvh.width", "", "", v);
+    snprintf(v, sizeof v, "%d", ri->bp->leaf_size);
+    cli_run_lines_add(&l, "bvh.leaf_size", "", "", v);
+    snprintf(v, sizeof v, "%d", o->stack_depth ? o->stack_depth : RT_STACK_DEPTH_DEFAULT);
+    cli_run_lines_add(&l, "traversal.stack_depth", "", "", v);
+    g_run.has_config_hash = cli_run_lines_hash(&l, &g_run.config_hash);
+    if (read_mode) {
+        /* the log's own record of its rays */
+        g_run.trace = o->read_log;
+        g_run.width = h->info.res_width, g_run.height = h->info.res_height;
+        g_run.rays = h->info.ray_kind == RT_TLOG_RAYS_PRIMARY   ? "primary"
+                     : h->info.ray_kind == RT_TLOG_RAYS_DIFFUSE ? "diffuse"
+                                                                : "other";
+        g_run.has_bounces = g_run.has_seed = h->info.ray_kind == RT_TLOG_RAYS_DIFFUSE;
+        g_run.bounces = h->info.max_bounces, g_run.seed = h->info.seed;
+        g_run.has_sim = true, g_run.sim_wall_s = s->wall_s;
+        g_run.sim_cpu_s = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID) - g_run.cpu0;
+    } else {
+        g_run.view = ri->view->name;
+        g_run.width = o->res_w, g_run.height = o->res_h;
+        g_run.rays = o->diffuse ? "diffuse" : "primary";
+        g_run.has_bounces = g_run.has_seed = o->diffuse;
+        g_run.bounces = o->bounces, g_run.seed = o->seed;
+        g_run.has_sim = true, g_run.sim_wall_s = s->trace_s, g_run.sim_cpu_s = s->trace_cpu_s;
+    }
+}
+
 static void json_common(FILE *f, const run_info *ri, bool *first)
 {
     json_s(f, "tool", "rttrace " RTSIM_VERSION " (git " RTSIM_GIT ")", first);
@@ -285,7 +327,9 @@ static int write_json(const char *path, const run_info *ri, const stats *s, bool
         }
     }
     bool first = true;
-    fputs("{", f);
+    fputs("{\n  ", f);
+    cli_run_write_member(f, &g_run, "\n    ");
+    first = false;
     json_common(f, ri, &first);
     if (read_mode) {
         json_s(f, "log", ri->o->read_log, &first);
@@ -404,6 +448,7 @@ static int read_log_mode(const options *o, rt_scene *sc, const rt_bvh_params *bp
         printf("           %" PRIu64 " bytes in %" PRIu64 " blocks: %.3f bytes per node visit\n", s.log.file_bytes,
                s.log.blocks, per(s.log.file_bytes, s.log.visits));
     }
+    fill_run(&ri, &s, true, &h);
     if (o->json && write_json(o->json, &ri, &s, true) != 0)
         return 2;
     return 0;
@@ -451,6 +496,7 @@ static bool trace_one(tracer_ctx *c, const rt_ray *ray, rt_hit *hit, char *err, 
 int main(int argc, char **argv)
 {
     const double t0 = now_s();
+    cli_run_init(&g_run, "rttrace", argc, argv);
     static const struct option longopts[] = {
         {"view", required_argument, 0, 'V'},      {"views", required_argument, 0, 'W'},
         {"bvh", required_argument, 0, 'b'},       {"leaf-size", required_argument, 0, 'l'},
@@ -664,7 +710,7 @@ int main(int argc, char **argv)
 
     /* trace: pixel by pixel, each path's rays one after the other */
     progress pg = {!o.quiet && isatty(2), now_s(), 0, npix};
-    const double tt0 = now_s();
+    const double tt0 = now_s(), tc0 = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID);
     for (uint32_t py = 0; py < o.res_h && rc == 0; py++) {
         for (uint32_t px = 0; px < o.res_w; px++) {
             rt_ray ray = rt_camera_primary_ray(&cam, px, py);
@@ -701,6 +747,7 @@ int main(int argc, char **argv)
         }
     }
     s.trace_s = now_s() - tt0;
+    s.trace_cpu_s = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID) - tc0;
     if (rc)
         goto done;
     progress_update(&pg, npix, true);
@@ -795,6 +842,7 @@ int main(int argc, char **argv)
         if (s.overflows)
             printf("FAIL       %" PRIu64 " rays overflowed the %d-entry stack\n", s.overflows, tc.tp.stack_depth);
     }
+    fill_run(&ri, &s, false, NULL);
     if (o.json && write_json(o.json, &ri, &s, false) != 0) {
         rc = 2;
         goto done;

@@ -41,6 +41,11 @@ typedef struct pending {
     bool claimed;
 } pending;
 
+typedef struct deferred {
+    rtcfg_deferred_fn fn;
+    void *user;
+} deferred;
+
 struct rtcfg {
     const rtcfg_schema **schemas;
     int nschemas, capschemas;
@@ -48,6 +53,11 @@ struct rtcfg {
     int nslots, capslots;
     pending *pend;
     int npend, cappend;
+    deferred *defer;
+    int ndefer;
+    bool deferred_done;
+    void **owned;
+    int nowned;
 };
 
 int rtcfg_errorf(char *err, size_t errlen, const char *fmt, ...)
@@ -109,7 +119,8 @@ void rtcfg_describe_range(const rtcfg_param *p, char *buf, size_t len)
         snprintf(buf, len, "%s", p->choices ? p->choices : "");
         break;
     case RTCFG_STRING:
-        snprintf(buf, len, "any text");
+        /* choices, when given, describes the text the owner accepts (checked by its schema check) */
+        snprintf(buf, len, "%s", p->choices ? p->choices : "any text");
         break;
     }
 }
@@ -288,7 +299,26 @@ void rtcfg_destroy(rtcfg *cfg)
     free(cfg->slots);
     free(cfg->pend);
     free(cfg->schemas);
+    free(cfg->defer);
+    for (int i = 0; i < cfg->nowned; i++)
+        free(cfg->owned[i]);
+    free(cfg->owned);
     free(cfg);
+}
+
+void rtcfg_add_deferred(rtcfg *cfg, rtcfg_deferred_fn fn, void *user)
+{
+    for (int i = 0; i < cfg->ndefer; i++)
+        if (cfg->defer[i].fn == fn && cfg->defer[i].user == user)
+            return; /* registering the same callback twice is harmless, like schemas */
+    cfg->defer = xrealloc(cfg->defer, (size_t)(cfg->ndefer + 1) * sizeof *cfg->defer);
+    cfg->defer[cfg->ndefer++] = (deferred){fn, user};
+}
+
+void rtcfg_own(rtcfg *cfg, void *block)
+{
+    cfg->owned = xrealloc(cfg->owned, (size_t)(cfg->nowned + 1) * sizeof *cfg->owned);
+    cfg->owned[cfg->nowned++] = block;
 }
 
 int rtcfg_add_schema(rtcfg *cfg, const rtcfg_schema *schema, char *err, size_t errlen)
@@ -581,10 +611,22 @@ int rtcfg_set_int(rtcfg *cfg, const char *key, int64_t value, char *err, size_t 
     return rtcfg_set(cfg, a, err, errlen);
 }
 
-/* "keys of [sec]: a, b, c" or the list of sections. */
+/* "keys of [sec]: a, b, c" or the list of sections. A key with two dots
+ * ("dram.timing.nFOO") first gets the keys under its prefix ("dram.timing."),
+ * so the list names the keys the user most likely meant. */
 static void suggest(const rtcfg *cfg, const char *key, char *buf, size_t len)
 {
-    const char *dot = strchr(key, '.');
+    const char *last = strrchr(key, '.'), *dot = strchr(key, '.');
+    if (last && last != dot) {
+        size_t lp = (size_t)(last - key) + 1, used = 0, head;
+        used = head = (size_t)snprintf(buf, len, "keys %.*s*: ", (int)lp, key);
+        for (int i = 0; i < cfg->nslots && used + 2 < len; i++)
+            if (strncmp(cfg->slots[i].key, key, lp) == 0)
+                used += (size_t)snprintf(buf + used, len - used, "%s%s", used > head ? ", " : "",
+                                         cfg->slots[i].key + lp);
+        if (used > head)
+            return;
+    }
     size_t ls = dot ? (size_t)(dot - key) : strlen(key);
     size_t used = (size_t)snprintf(buf, len, "keys of [%.*s]: ", (int)ls, key), head = used;
     for (int i = 0; i < cfg->nslots && used + 2 < len; i++)
@@ -604,6 +646,12 @@ static void suggest(const rtcfg *cfg, const char *key, char *buf, size_t len)
 
 int rtcfg_finish(rtcfg *cfg, char *err, size_t errlen)
 {
+    if (!cfg->deferred_done) {
+        cfg->deferred_done = true;
+        for (int i = 0; i < cfg->ndefer; i++)
+            if (cfg->defer[i].fn(cfg, cfg->defer[i].user, err, errlen))
+                return -1;
+    }
     for (int i = 0; i < cfg->npend; i++) {
         pending *e = &cfg->pend[i];
         if (e->claimed)

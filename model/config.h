@@ -17,6 +17,10 @@
  *    "--set KEY=VALUE") and the key, and the allowed values or range.
  *  - Getters take a registered key of the right type; anything else is a
  *    programming error: message on stderr and abort().
+ *  - Deferred schemas (rtcfg_add_deferred): a section whose keys depend on a
+ *    value (the [dram] keys are those of the DRAM standard file named by
+ *    memory.dram_config) is registered by a callback that rtcfg_finish runs
+ *    once, after every file and override, before unclaimed entries are errors.
  *  - rtcfg_write_ini() writes every key with its current value (temp file,
  *    then rename), so the output loads back to the same configuration.
  * Deterministic: no host state other than the files named. Not thread-safe
@@ -45,7 +49,7 @@ typedef struct rtcfg_param {
     const char *def;      /* default, as text (parsed like a file value) */
     double min, max;      /* int/real: inclusive allowed range */
     unsigned flags;       /* RTCFG_POW2 */
-    const char *choices;  /* enum: "fixed|lpddr3" */
+    const char *choices;  /* enum: "fixed|lpddr3"; string: what it accepts, or NULL = any text */
     const char *unit;     /* "bytes", "cycles", "" ... */
     const char *desc;     /* one line */
 } rtcfg_param;
@@ -71,9 +75,17 @@ int rtcfg_add_schema(rtcfg *cfg, const rtcfg_schema *schema, char *err, size_t e
 int rtcfg_load(rtcfg *cfg, const char *preset_or_path, char *err, size_t errlen);
 /* "section.name=value" (spaces around '=' allowed). */
 int rtcfg_set(rtcfg *cfg, const char *assignment, char *err, size_t errlen);
-/* Unclaimed keys are errors; runs every schema's check. Call once all schemas
- * are registered and all files/overrides applied. */
+/* Runs the deferred callbacks (once); then unclaimed keys are errors; runs
+ * every schema's check. Call once all schemas are registered and all
+ * files/overrides applied. */
 int rtcfg_finish(rtcfg *cfg, char *err, size_t errlen);
+
+/* fn(cfg, user, err, errlen) is called by rtcfg_finish (in registration
+ * order) and may read registered keys and register schemas; -1 fails finish. */
+typedef int (*rtcfg_deferred_fn)(rtcfg *cfg, void *user, char *err, size_t errlen);
+void rtcfg_add_deferred(rtcfg *cfg, rtcfg_deferred_fn fn, void *user);
+/* cfg frees block (malloc'ed; e.g. a schema built at run time) when destroyed. */
+void rtcfg_own(rtcfg *cfg, void *block);
 
 /* Directory of the presets (model/data/machines; RTSIM_DATA_DIR overrides the
  * compiled-in model/data) and the file of a preset name. */

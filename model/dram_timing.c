@@ -25,14 +25,15 @@ int dram_cmd_from_name(const char *name)
 
 
 /* ---- raw entries of the file (section, key, value, line) ---- */
-#define MAX_ENTRIES 256
-#define VAL_LEN 160
+#define MAX_ENTRIES DRAM_MAX_ENTRIES
+#define VAL_LEN DRAM_VALUE_LEN
 typedef struct entry {
     char section[DRAM_NAME_LEN];
-    char key[64];
+    char key[DRAM_KEY_LEN];
     char value[VAL_LEN];
     int line;          /* line in the file; 0 = from an override */
     const char *set;   /* the override text when line == 0 */
+    const char *origin; /* where the override came from, for messages (NULL: "--set TEXT") */
 } entry;
 
 typedef struct loader {
@@ -61,6 +62,8 @@ static const char *where(const loader *L, const entry *e, char *buf, size_t n)
 {
     if (e->line > 0)
         snprintf(buf, n, "%s:%d", L->path, e->line);
+    else if (e->origin)
+        snprintf(buf, n, "%s", e->origin);
     else
         snprintf(buf, n, "--set %s", e->set);
     return buf;
@@ -252,6 +255,24 @@ static const known known_keys[] = {
 
 static int is_pow2(int v) { return v > 0 && (v & (v - 1)) == 0; }
 
+/* The ranges of eval() calls below: [timing] 0..10000000, [constraints] 0..1000000. */
+void dram_spec_describe_key(const char *section, const char *key, char *buf, size_t len)
+{
+    for (int j = 0; j < NKNOWN; j++)
+        if (strcmp(known_keys[j].section, section) == 0 && strcmp(known_keys[j].key, key) == 0) {
+            snprintf(buf, len, "integer expression %ld..%ld", known_keys[j].lo, known_keys[j].hi);
+            return;
+        }
+    if (strcmp(section, "timing") == 0)
+        snprintf(buf, len, "integer expression 0..10000000 (DRAM cycles)");
+    else if (strcmp(section, "constraints") == 0)
+        snprintf(buf, len, "integer expression 0..1000000 (DRAM cycles)");
+    else if (strcmp(section, "controller") == 0 && strcmp(key, "mapping") == 0)
+        snprintf(buf, len, "address mapping, e.g. RoBaRaCoCh");
+    else
+        snprintf(buf, len, "unknown key");
+}
+
 /* "<scope> <FROM> -> <TO> [window N]" */
 static int parse_constraint_key(const char *key, dram_constraint *c, char *why, size_t n)
 {
@@ -316,18 +337,18 @@ static int parse_constraint_key(const char *key, dram_constraint *c, char *why, 
     return 0;
 }
 
-static int apply_set(loader *L, const char *set)
+static int apply_set(loader *L, const char *set, const char *origin)
 {
     const char *eq = strchr(set, '=');
     const char *dot = strchr(set, '.');
     if (!eq || !dot || dot > eq) {
-        fail(L, "--set %s: expected section.key=value (e.g. timing.nCL=12)", set);
+        fail(L, "%s%s: expected section.key=value (e.g. timing.nCL=12)", origin ? "" : "--set ", origin ? origin : set);
         return -1;
     }
     char section[DRAM_NAME_LEN], key[64];
     size_t ls = (size_t)(dot - set), lk = (size_t)(eq - dot - 1);
     if (ls >= sizeof section || lk >= sizeof key || strlen(eq + 1) >= VAL_LEN) {
-        fail(L, "--set %s: too long", set);
+        fail(L, "%s%s: too long", origin ? "" : "--set ", origin ? origin : set);
         return -1;
     }
     memcpy(section, set, ls);
@@ -339,6 +360,7 @@ static int apply_set(loader *L, const char *set)
             snprintf(L->e[i].value, VAL_LEN, "%s", eq + 1);
             L->e[i].line = 0;
             L->e[i].set = set;
+            L->e[i].origin = origin;
             return 0;
         }
     /* list the keys of the section for the message */
@@ -347,7 +369,12 @@ static int apply_set(loader *L, const char *set)
     for (int i = 0; i < L->n && used + 40 < sizeof keys; i++)
         if (strcmp(L->e[i].section, section) == 0)
             used += (size_t)snprintf(keys + used, sizeof keys - used, "%s%s", used ? ", " : "", L->e[i].key);
-    fail(L, "--set %s: unknown key '%s.%s' (keys of [%s] in %s: %s)", set, section, key, section, L->path,
+    char w[300];
+    if (origin)
+        snprintf(w, sizeof w, "%s", origin);
+    else
+        snprintf(w, sizeof w, "--set %s", set);
+    fail(L, "%s: unknown key '%s.%s' (keys of [%s] in %s: %s)", w, section, key, section, L->path,
          used ? keys : "none: sections are organization, timing, constraints, controller");
     return -1;
 }
@@ -360,32 +387,58 @@ int dram_spec_param(const dram_spec *spec, const char *name)
     return -1;
 }
 
-int dram_spec_load(dram_spec *spec, const char *path, const char *const *sets, int nsets, char *err, size_t errlen)
+/* Reads the file's entries into L and applies the overrides. */
+static int read_entries(loader *L, const char *path, const char *const *sets, const char *const *origins, int nsets,
+                        char *err, size_t errlen)
 {
-    static loader L; /* large; not reentrant across threads (loading is single-threaded) */
-    memset(&L, 0, sizeof L);
-    memset(spec, 0, sizeof *spec);
-    L.path = path;
-    L.err = err;
-    L.errlen = errlen;
+    memset(L, 0, sizeof *L);
+    L->path = path;
+    L->err = err;
+    L->errlen = errlen;
     err[0] = 0;
-    L.f = fopen(path, "r");
-    if (!L.f) {
+    L->f = fopen(path, "r");
+    if (!L->f) {
         snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
         return -1;
     }
-    int rc = ini_parse_stream(reader, &L, handler, &L);
-    fclose(L.f);
-    if (L.failed)
+    int rc = ini_parse_stream(reader, L, handler, L);
+    fclose(L->f);
+    if (L->failed)
         return -1;
     if (rc != 0) {
-        snprintf(err, errlen, "%s:%d: syntax error (expected [section] or key = value)", path, rc > 0 ? rc : L.line);
+        snprintf(err, errlen, "%s:%d: syntax error (expected [section] or key = value)", path, rc > 0 ? rc : L->line);
         return -1;
     }
-    snprintf(spec->source, sizeof spec->source, "%s", path);
     for (int i = 0; i < nsets; i++)
-        if (apply_set(&L, sets[i]))
+        if (apply_set(L, sets[i], origins ? origins[i] : NULL))
             return -1;
+    return 0;
+}
+
+int dram_spec_entries(const char *path, const char *const *sets, int nsets, dram_entry_fn fn, void *user, char *err,
+                      size_t errlen)
+{
+    static loader L; /* large; not reentrant across threads (loading is single-threaded) */
+    if (read_entries(&L, path, sets, NULL, nsets, err, errlen))
+        return -1;
+    for (int i = 0; i < L.n; i++)
+        fn(user, L.e[i].section, L.e[i].key, L.e[i].value);
+    return 0;
+}
+
+int dram_spec_load(dram_spec *spec, const char *path, const char *const *sets, int nsets, char *err, size_t errlen)
+{
+    return dram_spec_load_from(spec, path, sets, NULL, nsets, err, errlen);
+}
+
+int dram_spec_load_from(dram_spec *spec, const char *path, const char *const *sets, const char *const *origins,
+                        int nsets, char *err, size_t errlen)
+{
+    static loader L; /* large; not reentrant across threads (loading is single-threaded) */
+    memset(spec, 0, sizeof *spec);
+    if (read_entries(&L, path, sets, origins, nsets, err, errlen))
+        return -1;
+    snprintf(spec->source, sizeof spec->source, "%s", path);
 
     char w[300];
     /* pass 1: [timing] in file order (expressions see earlier names) */

@@ -14,9 +14,10 @@
  *                   sibling (another bank of the same rank).
  *   [controller]    queue sizes, scheduler row-hit cap, write watermarks, read
  *                   latency, refresh interval, address mapping
- * Overrides "section.key=value" (rtdram --set) replace a value of the file; a key
- * the file does not define is an error. Every error names the file, line or key
- * and the allowed range. The loaded spec is immutable and shared read-only. */
+ * Overrides "section.key=value" (rtdram --set; rtsim's dram.section.key keys,
+ * model/memsys_config.h) replace a value of the file; a key the file does not
+ * define is an error. Every error names the file, line or key and the allowed
+ * range. The loaded spec is immutable and shared read-only. */
 #ifndef RTSIM_DRAM_TIMING_H
 #define RTSIM_DRAM_TIMING_H
 
@@ -32,6 +33,9 @@ enum dram_scope { DRAM_SCOPE_CHANNEL, DRAM_SCOPE_RANK, DRAM_SCOPE_BANK, DRAM_SCO
 #define DRAM_MAX_CONSTRAINTS 96
 #define DRAM_MAX_WINDOW 8
 #define DRAM_NAME_LEN 32
+#define DRAM_MAX_ENTRIES 256   /* key = value lines of one file */
+#define DRAM_KEY_LEN 64        /* longest key + 1 (constraint keys are phrases) */
+#define DRAM_VALUE_LEN 160     /* longest value + 1 */
 
 typedef struct dram_constraint {
     uint8_t scope;   /* enum dram_scope */
@@ -69,6 +73,22 @@ typedef struct dram_spec {
  * Returns 0, or -1 with a one-line message in err (file:line or key, allowed range). */
 int dram_spec_load(dram_spec *spec, const char *path, const char *const *sets, int nsets,
                    char *err, size_t errlen);
+
+/* The same, with origins[i] (e.g. "--set dram.timing.nCL=14" or "FILE:LINE")
+ * naming override i in messages instead of "--set SETS[i]"; origins may be NULL. */
+int dram_spec_load_from(dram_spec *spec, const char *path, const char *const *sets, const char *const *origins,
+                        int nsets, char *err, size_t errlen);
+
+/* Every entry of the file in file order, values after the overrides (which
+ * must name keys of the file), unevaluated: fn(user, section, key, value).
+ * Returns 0, or -1 with a message in err. Values are not validated. */
+typedef void (*dram_entry_fn)(void *user, const char *section, const char *key, const char *value);
+int dram_spec_entries(const char *path, const char *const *sets, int nsets, dram_entry_fn fn, void *user, char *err,
+                      size_t errlen);
+
+/* Allowed range of a key, as text for messages and configuration listings
+ * ("1..16", "integer expression 0..10000000", "address mapping, e.g. RoBaRaCoCh"). */
+void dram_spec_describe_key(const char *section, const char *key, char *buf, size_t len);
 
 /* Value of a [timing] parameter, or -1 when the spec has no such name. */
 int dram_spec_param(const dram_spec *spec, const char *name);

@@ -138,14 +138,14 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
             goto fail;
     } else {
         char path[1024], why[400];
-        const char *file = rtcfg_str(cfg, "memory.dram_config");
-        snprintf(path, sizeof path, "%s%s%s", strchr(file, '/') ? "" : rtcfg_data_dir(), strchr(file, '/') ? "" : "/",
-                 file);
+        /* the standard file with the [dram] keys of the configuration (memsys_config.h) */
         ms->spec = calloc(1, sizeof *ms->spec);
-        if (!ms->spec || dram_spec_load(ms->spec, path, NULL, 0, why, sizeof why)) {
-            snprintf(err, errlen, "memory.dram_config = %s: %s", file, ms->spec ? why : "out of memory");
+        if (!ms->spec) {
+            snprintf(err, errlen, "memory.dram_config: out of memory");
             goto fail;
         }
+        if (memsys_dram_spec_load(cfg, ms->spec, err, errlen))
+            goto fail;
         const char *pfile = rtcfg_str(cfg, "memory.dram_power");
         if (*pfile) {
             snprintf(path, sizeof path, "%s%s%s", strchr(pfile, '/') ? "" : rtcfg_data_dir(),

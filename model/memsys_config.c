@@ -5,7 +5,10 @@
  * paper; the values below are our choices (see the preset comments). */
 #include "model/memsys_config.h"
 
+#include <stdlib.h>
 #include <string.h>
+
+#include "model/dram_timing.h"
 
 #define CACHE_PARAMS(size, line, banks, mshrs, merge, lat)                                                             \
     {                                                                                                                  \
@@ -57,6 +60,127 @@ static const rtcfg_param fifo_params[] = {
 };
 const rtcfg_schema memsys_schema_fifo = {"fifo", "memory-side FIFOs", fifo_params, 13, NULL};
 
+/* ---- [dram]: the keys of the DRAM standard file, built when the file is known ---- */
+
+/* One block per configuration (freed by rtcfg_destroy through rtcfg_own):
+ * the schema, its parameter table and the texts the table points to. */
+typedef struct dram_schema_block {
+    rtcfg_schema schema;
+    int n;
+    rtcfg_param params[DRAM_MAX_ENTRIES];
+    char name[DRAM_MAX_ENTRIES][DRAM_NAME_LEN + DRAM_KEY_LEN];
+    char def[DRAM_MAX_ENTRIES][DRAM_VALUE_LEN];
+    char desc[DRAM_MAX_ENTRIES][DRAM_KEY_LEN + 48];
+    char range[DRAM_MAX_ENTRIES][96];
+    char title[300];
+} dram_schema_block;
+
+static void add_dram_param(void *user, const char *section, const char *key, const char *value)
+{
+    dram_schema_block *b = user;
+    if (b->n == DRAM_MAX_ENTRIES) /* cannot happen: the loader holds at most as many */
+        return;
+    int i = b->n++;
+    dram_spec_describe_key(section, key, b->range[i], sizeof b->range[i]);
+    snprintf(b->name[i], sizeof b->name[i], "%s.%s", section, key);
+    snprintf(b->def[i], sizeof b->def[i], "%s", value);
+    snprintf(b->desc[i], sizeof b->desc[i], "DRAM file [%s] %s", section, key);
+    /* type string: values are integer expressions over [timing] names, checked by
+     * dram_spec_load in check_dram(); the range text is shown as the allowed values */
+    b->params[i] = (rtcfg_param){b->name[i], RTCFG_STRING, b->def[i], 0, 0, 0, b->range[i], "", b->desc[i]};
+}
+
+int memsys_dram_path(const rtcfg *cfg, char *buf, size_t len)
+{
+    const char *file = rtcfg_str(cfg, "memory.dram_config");
+    bool rel = strchr(file, '/') == NULL;
+    if (snprintf(buf, len, "%s%s%s", rel ? rtcfg_data_dir() : "", rel ? "/" : "", file) >= (int)len)
+        return -1;
+    return 0;
+}
+
+static int check_dram(const rtcfg *cfg, char *err, size_t errlen);
+
+/* Deferred (rtcfg_finish): memory.dram_config is final now. */
+static int register_dram(rtcfg *cfg, void *user, char *err, size_t errlen)
+{
+    (void)user;
+    char path[1100], why[600];
+    const char *file = rtcfg_str(cfg, "memory.dram_config");
+    bool needed = rtcfg_enum(cfg, "memory.model") == MEMSYS_LPDDR3;
+    if (memsys_dram_path(cfg, path, sizeof path)) {
+        if (!needed)
+            return 0;
+        return rtcfg_errorf(err, errlen, "memory.dram_config = %.64s...: path too long", file);
+    }
+    dram_schema_block *b = calloc(1, sizeof *b);
+    if (!b)
+        return rtcfg_errorf(err, errlen, "out of memory");
+    if (dram_spec_entries(path, NULL, 0, add_dram_param, b, why, sizeof why)) {
+        free(b);
+        /* the fixed model does not read the file: no error, and no [dram] keys */
+        return needed ? rtcfg_errorf(err, errlen, "memory.dram_config = %s: %s", file, why) : 0;
+    }
+    snprintf(b->title, sizeof b->title, "DRAM standard %s (SECTION.KEY of the file; docs/dram.md)", file);
+    b->schema = (rtcfg_schema){"dram", b->title, b->params, b->n, check_dram};
+    rtcfg_own(cfg, b);
+    return rtcfg_add_schema(cfg, &b->schema, err, errlen);
+}
+
+int memsys_dram_spec_load(const rtcfg *cfg, dram_spec *spec, char *err, size_t errlen)
+{
+    char path[1100];
+    const char *file = rtcfg_str(cfg, "memory.dram_config");
+    if (memsys_dram_path(cfg, path, sizeof path))
+        return rtcfg_errorf(err, errlen, "memory.dram_config = %.64s...: path too long", file);
+    const rtcfg_schema *ds = NULL;
+    for (int i = 0; i < rtcfg_schema_count(cfg); i++)
+        if (strcmp(rtcfg_schema_at(cfg, i)->section, "dram") == 0)
+            ds = rtcfg_schema_at(cfg, i);
+    /* overrides: the keys whose value came from a machine file or --set */
+    int n = 0;
+    const char **sets = NULL, **origins = NULL;
+    char (*text)[DRAM_NAME_LEN + DRAM_KEY_LEN + DRAM_VALUE_LEN + 2] = NULL;
+    if (ds && ds->nparams) {
+        sets = calloc((size_t)ds->nparams, sizeof *sets);
+        origins = calloc((size_t)ds->nparams, sizeof *origins);
+        text = calloc((size_t)ds->nparams, sizeof *text);
+        if (!sets || !origins || !text) {
+            free(sets), free(origins), free(text);
+            return rtcfg_errorf(err, errlen, "out of memory");
+        }
+        for (int k = 0; k < ds->nparams; k++) {
+            char key[200];
+            snprintf(key, sizeof key, "dram.%s", ds->params[k].name);
+            const char *src = rtcfg_source(cfg, key);
+            if (strcmp(src, "default") == 0)
+                continue;
+            snprintf(text[n], sizeof text[n], "%s=%s", ds->params[k].name, rtcfg_str(cfg, key));
+            sets[n] = text[n];
+            origins[n] = src;
+            n++;
+        }
+    }
+    char why[800];
+    int rc = dram_spec_load_from(spec, path, sets, origins, n, why, sizeof why);
+    if (rc)
+        rtcfg_errorf(err, errlen, "memory.dram_config = %s: %s", file, why);
+    free(sets), free(origins), free(text);
+    return rc;
+}
+
+/* The standard must load with the [dram] values (ranges and cross-checks of
+ * dram_spec_load), at rtcfg_finish so a bad value fails before any work. */
+static int check_dram(const rtcfg *cfg, char *err, size_t errlen)
+{
+    dram_spec *spec = malloc(sizeof *spec);
+    if (!spec)
+        return rtcfg_errorf(err, errlen, "out of memory");
+    int rc = memsys_dram_spec_load(cfg, spec, err, errlen);
+    free(spec);
+    return rc;
+}
+
 int memsys_add_schemas(rtcfg *cfg, char *err, size_t errlen)
 {
     const rtcfg_schema *all[] = {&memsys_schema_node_l1, &memsys_schema_node_l2, &memsys_schema_prim,
@@ -64,6 +188,7 @@ int memsys_add_schemas(rtcfg *cfg, char *err, size_t errlen)
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         if (rtcfg_add_schema(cfg, all[i], err, errlen))
             return -1;
+    rtcfg_add_deferred(cfg, register_dram, NULL);
     return 0;
 }
 

@@ -17,6 +17,26 @@ expect() {
   else pass "$name"; fi
 }
 
+# sans_run: one JSON object on stdin, printed (keys sorted, one line)
+# without its "run" object: the provenance of docs/results.md (command line,
+# host times, date) differs between two runs with the same results.
+sans_run() {
+  python3 -c 'import json, sys; d = json.load(sys.stdin); d.pop("run", None); print(json.dumps(d, sort_keys=True))'
+}
+
+# same_results A.json B.json: the two files are equal but for their "run"
+# objects, and those agree on what produced the results (scene, mesh, machine
+# and configuration hash, rays).
+same_results() {
+  python3 - "$1" "$2" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+ra, rb = a.pop("run"), b.pop("run")
+same = ("scene", "mesh_hash", "view", "machine", "config_hash", "width_px", "height_px", "ray_type", "bounces", "seed")
+sys.exit(0 if a == b and all(ra[k] == rb[k] for k in same) else 1)
+PY
+}
+
 # check NAME CONDITION-COMMAND...   passes when the command exits 0
 check() {
   local name=$1; shift

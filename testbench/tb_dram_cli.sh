@@ -46,7 +46,7 @@ assert abs(d["row_hit_rate"]) < 1e-12 and d["energy_uJ"] > 0, d
 '; then pass dram_cli_json; else fail dram_cli_json "$json"; fi
 
 # determinism
-a=$("$bin" "$tmp/m3.trace" --json); b=$("$bin" "$tmp/m3.trace" --json)
+a=$("$bin" "$tmp/m3.trace" --json | sans_run); b=$("$bin" "$tmp/m3.trace" --json | sans_run)
 [ "$a" = "$b" ] && pass dram_cli_deterministic || fail dram_cli_deterministic "two runs differ"
 
 # --set changes the result (tRCD 15 -> 20: both RDs of m3 5 cycles later, PRE still at tRAS: 83 -> 88)
@@ -77,7 +77,7 @@ fi
 mkdir -p "$tmp/cfgdir"; cp model/data/lpddr3_1600.ini model/data/lpddr3_1600_idd.ini "$tmp/cfgdir/"
 long_cfg="$tmp/$(printf './%.0s' $(seq 600))cfgdir/lpddr3_1600.ini"
 out=$("$bin" "$tmp/m3.trace" --json --config "$long_cfg" 2>&1); rc=$?
-if [ $rc = 0 ] && [ "$out" = "$("$bin" "$tmp/m3.trace" --json 2>&1)" ]; then
+if [ $rc = 0 ] && [ "$(echo "$out" | sans_run)" = "$("$bin" "$tmp/m3.trace" --json 2>&1 | sans_run)" ]; then
   pass dram_cli_config_long_path
 else
   fail dram_cli_config_long_path "exit $rc: $(echo "$out" | head -c 200)"
@@ -103,8 +103,9 @@ with open(sys.argv[1], "w") as f:
         f.write("0x%x %s\n" % (x, "W" if w else "R"))
 PY
 for t in m3 mix; do
-  d=$("$bin" "$tmp/$t.trace" --json --cmd-trace "$tmp/$t.direct.cmd" 2>&1)
+  d=$("$bin" "$tmp/$t.trace" --json --cmd-trace "$tmp/$t.direct.cmd" 2>&1 | sans_run)
   k=$("$bin" "$tmp/$t.trace" --json --kernel --check --cmd-trace "$tmp/$t.kernel.cmd" 2>&1); rc=$?
+  k=$(echo "$k" | sans_run)
   if [ $rc -ne 0 ]; then fail dram_cli_kernel_equals_direct_$t "exit $rc: $k"
   elif [ "$d" != "$k" ]; then fail dram_cli_kernel_equals_direct_$t "JSON differs: $d vs $k"
   elif ! cmp -s <(grep -v '^#' "$tmp/$t.direct.cmd") <(grep -v '^#' "$tmp/$t.kernel.cmd"); then

@@ -11,6 +11,7 @@
 #             the ASan/UBSan rtdram with the timing checker: fast == exhaustive ==
 #             kernel module.
 set -u
+. "$(dirname "$0")/cli_lib.sh"   # sans_run: the JSON without its "run" object
 bin=${RTSIM_BIN:?}/rtdram
 tmp=${RTSIM_TMP:-/tmp}
 cmp=scripts/dram_compare.py
@@ -27,8 +28,8 @@ if [ -z "${RTSIM_TB_SANITIZED:-}" ]; then
     echo "$out" >&2
   fi
   traces=$(python3 $cmp --generate-only 2>/dev/null | tail -1)
-  d=$("$bin" "$traces/d_mix7030.il32.trace" --json 2>&1)
-  k=$("$bin" "$traces/d_mix7030.il32.trace" --json --kernel 2>&1)
+  d=$("$bin" "$traces/d_mix7030.il32.trace" --json 2>&1 | sans_run)
+  k=$("$bin" "$traces/d_mix7030.il32.trace" --json --kernel 2>&1 | sans_run)
   if [ -n "$d" ] && [ "$d" = "$k" ]; then echo "PASS dram_ref_kernel_module_equals_direct_d_mix7030"
   else echo "FAIL dram_ref_kernel_module_equals_direct_d_mix7030: direct $d; kernel $k"; fi
   exit 0
@@ -42,8 +43,9 @@ for t in a_seq b_rand64 c_rand128 d_mix7030 e_rowloc; do
   p=$tmp/dram_ref_$t.trace
   head -n 20000 "$traces/$t.il32.trace" > "$p"
   fast=$("$bin" "$p" --json --check 2>"$p.err"); rc=$?
-  slow=$("$bin" "$p" --json --exhaustive 2>/dev/null)
-  kern=$("$bin" "$p" --json --kernel 2>/dev/null)
+  fast=$(echo "$fast" | sans_run)
+  slow=$("$bin" "$p" --json --exhaustive 2>/dev/null | sans_run)
+  kern=$("$bin" "$p" --json --kernel 2>/dev/null | sans_run)
   if [ $rc -ne 0 ]; then
     echo "FAIL dram_ref_prefix_$t: rtdram exit $rc: $(head -2 "$p.err" | tr '\n' ';')"
   elif [ "$fast" != "$slow" ]; then

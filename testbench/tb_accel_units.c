@@ -398,7 +398,7 @@ static void test_trv_ist_tiny(void)
         trv.ev = log_ev;
         trv.ev_user = variant ? &flaky : &ideal;
         accel_ray r;
-        accel_ray_in in = {{0, 0, 0}, {1, 0, 0}, 0.0f, 1e30f, 7, 0};
+        accel_ray_in in = {{0, 0, 0}, {1, 0, 0}, 0.0f, 1e30f, 7, 0, 0};
         accel_ray_start(&r, &in, 0);
         r.slot = 1;
         int loops;
@@ -438,7 +438,7 @@ static void test_trv_ist_tiny(void)
     trv.ev = log_ev, trv.ev_user = &nc;
     ist_core ist = {&sc.img, NULL, NULL, log_ev, &nc, {0}, 1};
     accel_ray r;
-    accel_ray_in in = {{0, 0, 0}, {1, 0, 0}, 0.0f, 1e30f, 7, 0};
+    accel_ray_in in = {{0, 0, 0}, {1, 0, 0}, 0.0f, 1e30f, 7, 0, 0};
     accel_ray_start(&r, &in, 0);
     r.slot = 0;
     int loops;

@@ -30,13 +30,13 @@ static void usage(FILE *out)
 {
     fprintf(out,
             "usage: rtsim [SCENE] [--view NAME] [--views FILE] [--machine bvh2|mbvh4|FILE.ini]\n"
-            "             [--rays primary|diffuse] [--res WxH] [--bounces N] [--seed N]\n"
+            "             [--rays primary|diffuse|occlusion] [--res WxH] [--bounces N] [--seed N]\n"
             "             [--set KEY=VALUE]... [--json FILE] [--vcd FILE] [--vcd-window A:B]\n"
             "             [--vcd-filter GLOB] [--heatmap FILE] [--autosize-fifos OUT.ini]\n"
             "             [--help-module NAME] [--quiet] [--exhaustive] [--help] [--version]\n"
             "SCENE: a built-in scene (interior, hairball, city, forest; default interior) or an\n"
             "       .obj/.ply(.gz)/.scene file. Defaults: 1280x720, mbvh4, primary rays,\n"
-            "       4 bounces, seed 1.\n"
+            "       4 bounces, seed 1. Occlusion rays: 4 ambient-occlusion rays per primary hit.\n"
             "--set KEY=VALUE     override a machine key (e.g. trv.count=8, or a key of the DRAM\n"
             "                    standard file: dram.timing.nCL=14); see --help-module\n"
             "--json FILE         every statistic (with units and descriptions) as JSON\n"
@@ -225,7 +225,7 @@ int main(int argc, char **argv)
     const char *scene_name = "interior", *view_name = NULL, *views_file = NULL, *machine = "mbvh4";
     const char *json = NULL, *vcd = NULL, *vcd_filter = NULL, *heatmap = NULL, *autosize = NULL;
     const char *res = "1280x720";
-    bool diffuse = false, quiet = false, exhaustive = false;
+    bool diffuse = false, occlusion = false, quiet = false, exhaustive = false;
     uint64_t bounces = 4, seed = 1, vcd_a = 0, vcd_b = 0;
     const char **sets = calloc((size_t)argc, sizeof *sets);
     int nsets = 0;
@@ -252,12 +252,10 @@ int main(int argc, char **argv)
         case O_VIEWS: views_file = optarg; break;
         case O_MACHINE: machine = optarg; break;
         case O_RAYS:
-            if (!strcmp(optarg, "primary"))
-                diffuse = false;
-            else if (!strcmp(optarg, "diffuse"))
-                diffuse = true;
-            else
-                USAGE_ERR("--rays %s: allowed values are primary, diffuse%s", optarg, "");
+            diffuse = !strcmp(optarg, "diffuse");
+            occlusion = !strcmp(optarg, "occlusion");   /* AO rays of the primary hits (docs/accel.md) */
+            if (strcmp(optarg, "primary") && !diffuse && !occlusion)
+                USAGE_ERR("--rays %s: allowed values are primary, diffuse, occlusion%s", optarg, "");
             break;
         case O_RES: res = optarg; break;
         case O_BOUNCES:
@@ -352,6 +350,8 @@ int main(int argc, char **argv)
     if (!rtsim_frame_init(&frame, &sc.mesh, view, w, h, diffuse, (uint32_t)bounces, seed, heatmap != NULL, &src, err,
                           sizeof err))
         goto fail;
+    if (occlusion && !rtsim_frame_occlusion(&frame, &img, RT_AO_SAMPLES_DEFAULT, &src, err, sizeof err))
+        goto fail;
     accel_image aimg = rtsim_image(&img);
     accel_top_opts o = {0};
     o.vcd_path = vcd;
@@ -372,7 +372,8 @@ int main(int argc, char **argv)
     if (run_rc)
         fprintf(stderr, "rtsim: %s\n", err);
     if (!quiet) {
-        printf("scene       %s, view %s, %ux%u, %s rays\n", sc.name, view->name, w, h, diffuse ? "diffuse" : "primary");
+        printf("scene       %s, view %s, %ux%u, %s rays\n", sc.name, view->name, w, h,
+               diffuse ? "diffuse" : occlusion ? "occlusion" : "primary");
         printf("BVH         %u nodes x %u B, %u triangles\n", img.nnodes, img.node_bytes, img.ntris);
         accel_top_print_summary(top, stdout);
         printf("host        %.3f s CPU (%.3f s wall), %.2f M simulated cycles/s, %.0f K rays/s (CPU)\n", cpu_s, host_s,

@@ -9,6 +9,10 @@
  *   - for diffuse runs the bounce ray of each completed ray (bounce.h, the
  *     same seed convention as the tracer, so paths do not depend on the order
  *     the hardware completes rays in),
+ *   - for occlusion runs (rtsim_frame_occlusion) the occlusion rays only:
+ *     the primary rays are traced on the host with the reference traversal
+ *     and the model gets their AO rays (occlusion.h; samples consecutive per
+ *     pixel, pixels in order), the same rays as rt_ray_set_occlusion,
  *   - per-pixel simulated cycles (sum of its rays' latencies) for heatmaps,
  *   - an optional per-ray completion hook.
  * Header-only (static functions) because cli/ builds one binary per .c. */
@@ -26,8 +30,10 @@
 #include "tracer/bounce.h"
 #include "tracer/bvh.h"
 #include "tracer/camera.h"
+#include "tracer/occlusion.h"
 #include "tracer/ray.h"
 #include "tracer/scene.h"
+#include "tracer/traverse.h"
 
 typedef void (*rtsim_complete_hook)(void *user, uint32_t uid, const rt_ray *ray, const rt_hit *hit, uint64_t admit,
                                     uint64_t done, bool failed);
@@ -41,6 +47,12 @@ typedef struct rtsim_frame {
     float *pixel_cycles;          /* width*height, NULL when not kept */
     rtsim_complete_hook hook;
     void *hook_user;
+    /* occlusion runs: the pixels whose primary ray hit (in pixel order), their hits */
+    uint32_t ao_samples;
+    float ao_tmax;
+    uint32_t *occ_pixel;
+    rt_hit *occ_hit;
+    uint32_t occ_n;
 } rtsim_frame;
 
 static inline void rtsim_to_model(const rt_ray *r, accel_ray_in *o)
@@ -50,6 +62,7 @@ static inline void rtsim_to_model(const rt_ray *r, accel_ray_in *o)
     o->tmin = r->tmin, o->tmax = r->tmax;
     o->pixel = r->pixel;
     o->bounce = r->bounce;
+    o->occlusion = r->occlusion;
 }
 
 static inline void rtsim_from_model(const accel_ray_in *i, rt_ray *r)
@@ -59,6 +72,7 @@ static inline void rtsim_from_model(const accel_ray_in *i, rt_ray *r)
     r->tmin = i->tmin, r->tmax = i->tmax;
     r->pixel = i->pixel;
     r->bounce = i->bounce;
+    r->occlusion = i->occlusion;
 }
 
 static inline void rtsim_frame_primary(void *user, uint64_t i, accel_ray_in *out)
@@ -135,10 +149,65 @@ static inline bool rtsim_frame_init(rtsim_frame *f, const rt_mesh *mesh, const r
     return true;
 }
 
+/* Occlusion ray i: sample i % samples of the i / samples-th hit pixel. */
+static inline void rtsim_frame_occlusion_ray(void *user, uint64_t i, accel_ray_in *out)
+{
+    rtsim_frame *f = user;
+    const uint32_t j = (uint32_t)(i / f->ao_samples), k = (uint32_t)(i % f->ao_samples);
+    const uint32_t px = f->occ_pixel[j] % f->cam.width, py = f->occ_pixel[j] / f->cam.width;
+    const rt_ray prim = rt_camera_primary_ray(&f->cam, px, py);
+    rt_ray r;
+    (void)rt_ao_ray(f->mesh, &prim, &f->occ_hit[j], f->seed, k, f->ao_tmax, &r);   /* true: checked at set-up */
+    rtsim_to_model(&r, out);
+}
+
+/* Turns an initialised frame into an occlusion run: traces the primary rays
+ * on the host (img, the reference traversal) and makes src feed their
+ * `samples` AO rays each (tmax rt_ao_distance) instead of primary rays.
+ * False with a message on a stack overflow or out of memory. */
+static inline bool rtsim_frame_occlusion(rtsim_frame *f, const rt_bvh_image *img, uint32_t samples,
+                                         accel_source *src, char *err, size_t errlen)
+{
+    const uint32_t n = f->cam.width * f->cam.height;
+    f->occ_pixel = malloc((size_t)(n ? n : 1) * sizeof *f->occ_pixel);
+    f->occ_hit = malloc((size_t)(n ? n : 1) * sizeof *f->occ_hit);
+    if (!f->occ_pixel || !f->occ_hit) {
+        snprintf(err, errlen, "out of memory for the primary hits of %u pixels", n);
+        return false;
+    }
+    f->ao_samples = samples ? samples : 1;
+    f->ao_tmax = rt_ao_distance(f->mesh);
+    rt_trv_params tp;
+    rt_trv_params_default(&tp, img->width);
+    tp.stack_depth = 4096;   /* host-side pre-pass: the largest stack (hits do not depend on it) */
+    f->occ_n = 0;
+    for (uint32_t p = 0; p < n; p++) {
+        const rt_ray prim = rt_camera_primary_ray(&f->cam, p % f->cam.width, p / f->cam.width);
+        rt_hit h;
+        rt_ray probe;
+        if (!rt_trace_ray(img, &tp, &prim, &h, NULL, NULL, NULL)) {
+            snprintf(err, errlen, "occlusion rays: stack overflow tracing the primary ray of pixel %u", p);
+            return false;
+        }
+        if (rt_ao_ray(f->mesh, &prim, &h, f->seed, 0, f->ao_tmax, &probe)) {   /* any k: same condition */
+            f->occ_pixel[f->occ_n] = p;
+            f->occ_hit[f->occ_n++] = h;
+        }
+    }
+    src->occlusion = true;
+    src->primary_count = (uint64_t)f->occ_n * f->ao_samples;
+    src->primary = rtsim_frame_occlusion_ray;
+    return true;
+}
+
 static inline void rtsim_frame_free(rtsim_frame *f)
 {
     free(f->pixel_cycles);
+    free(f->occ_pixel);
+    free(f->occ_hit);
     f->pixel_cycles = NULL;
+    f->occ_pixel = NULL;
+    f->occ_hit = NULL;
 }
 
 #endif

@@ -1,6 +1,7 @@
 /* rttrace — the software ray tracer's command-line tool (docs/design.md
  * "Command-line conventions"): loads a scene, builds the BVH, traces a view's
- * primary rays or diffuse paths with the reference traversal (the hardware's
+ * primary rays, diffuse paths or the ambient-occlusion rays of the primary
+ * hits (any-hit, tracer/occlusion.h) with the reference traversal (the hardware's
  * algorithm, tracer/traverse.h), optionally compares every ray with Embree,
  * and writes the trace log, the shaded frame, per-pixel heatmaps of node
  * visits and triangle tests, and statistics (--json).
@@ -29,6 +30,7 @@
 #include "tracer/embree_check.h"
 #include "tracer/image.h"
 #include "tracer/mesh.h"
+#include "tracer/occlusion.h"
 #include "tracer/scene.h"
 #include "tracer/shade.h"
 #include "tracer/trace_log.h"
@@ -52,13 +54,16 @@ static void usage(FILE *o)
             "  --views FILE           views.txt-format file replacing the scene's views\n"
             "  --bvh bvh2|mbvh4|mbvhN BVH width, N = 2..8 (default mbvh4)\n"
             "  --leaf-size N          max triangles per leaf, 1..%u (default 4)\n"
-            "  --rays primary|diffuse primary rays, or diffuse paths (default primary)\n"
+            "  --rays primary|diffuse|occlusion\n"
+            "                         primary rays, diffuse paths, or primary rays and %d ambient-\n"
+            "                         occlusion rays per hit, any hit ends them (default primary)\n"
             "  --res WxH              resolution, 1..65535 each (default %dx%d)\n"
             "  --bounces N            diffuse bounces per path, 0..%d (default %d)\n"
-            "  --seed N               random seed of the bounces, 0..2^64-1 (default 1)\n"
+            "  --seed N               random seed of the bounces and AO rays, 0..2^64-1 (default 1)\n"
             "  --stack-depth N        traversal stack entries, 1..4096 (default %d, the paper's);\n"
             "                         a ray overflowing it is a validation failure (exit 1)\n"
-            "  --check-embree         compare every ray's closest hit with Embree 3\n"
+            "  --check-embree         compare every ray's closest hit (occlusion rays: occluded or\n"
+            "                         not, rtcOccluded1) with Embree 3\n"
             "  --max-mismatch-rate R  allowed fraction of rays differing from Embree, 0..1 (default %g);\n"
             "                         any unexplained difference (cause 'other') fails regardless\n"
             "  --log FILE             write the binary trace log (docs/tracer-log.md)\n"
@@ -70,7 +75,7 @@ static void usage(FILE *o)
             "  --quiet                no summary, no progress bar\n"
             "  --help, --version\n"
             "Exit status: 0 ok, 1 Embree check failed, 2 bad usage or input.\n",
-            RT_LEAF_MAX, RT_DEFAULT_WIDTH, RT_DEFAULT_HEIGHT, BOUNCES_MAX, RT_MAX_BOUNCES_DEFAULT,
+            RT_LEAF_MAX, RT_AO_SAMPLES_DEFAULT, RT_DEFAULT_WIDTH, RT_DEFAULT_HEIGHT, BOUNCES_MAX, RT_MAX_BOUNCES_DEFAULT,
             RT_STACK_DEPTH_DEFAULT, MISMATCH_RATE_DEFAULT);
 }
 
@@ -137,7 +142,7 @@ typedef struct options {
     int width;              /* 0 = not given */
     int leaf_size;
     int stack_depth;
-    bool diffuse, check_embree, quiet;
+    bool diffuse, occlusion, check_embree, quiet;
     uint32_t res_w, res_h, bounces;
     uint64_t seed;
     double max_mismatch_rate;
@@ -150,6 +155,8 @@ typedef struct stats {
     uint64_t visits, box_tests, leaves, tri_tests, pushes, pops, culls;
     uint32_t max_stack;
     rt_embree_tally tally;
+    uint64_t occlusion_rays, occluded;
+    rt_embree_tally occ_tally;   /* occlusion rays against rtcOccluded1 */
     double embree_build_s;
     rt_tlog_totals log;
     bool log_written;
@@ -350,7 +357,7 @@ static int write_json(const char *path, const run_info *ri, const stats *s, bool
     } else {
         const options *o = ri->o;
         json_s(f, "view", ri->view->name, &first);
-        json_s(f, "ray_type", o->diffuse ? "diffuse" : "primary", &first);
+        json_s(f, "ray_type", o->diffuse ? "diffuse" : o->occlusion ? "occlusion" : "primary", &first);
         json_u(f, "width_px", o->res_w, &first);
         json_u(f, "height_px", o->res_h, &first);
         json_u(f, "max_bounces", o->diffuse ? o->bounces : 0, &first);
@@ -385,6 +392,19 @@ static int write_json(const char *path, const run_info *ri, const stats *s, bool
         }
         json_d(f, "embree_build_s", s->embree_build_s, &first);
         json_d(f, "embree_max_mismatch_rate", o->max_mismatch_rate, &first);
+        if (o->occlusion) {
+            json_u(f, "ao_samples", RT_AO_SAMPLES_DEFAULT, &first);
+            json_d(f, "ao_distance", rt_ao_distance(&ri->sc->mesh), &first);
+            json_u(f, "occlusion_rays", s->occlusion_rays, &first);
+            json_u(f, "occluded", s->occluded, &first);
+            json_u(f, "embree_occlusion_rays", s->occ_tally.rays, &first);
+            json_u(f, "embree_occlusion_mismatches", embree_mismatches(&s->occ_tally), &first);
+            for (int c = RT_EMBREE_TIE; c < RT_EMBREE_CAUSES; c++) {
+                char k[64];
+                snprintf(k, sizeof k, "embree_occlusion_mismatch_%s", rt_embree_cause_name((rt_embree_cause)c));
+                json_u(f, k, s->occ_tally.cause[c], &first);
+            }
+        }
         json_u(f, "log_bytes", s->log_written ? s->log.file_bytes : 0, &first);
         json_d(f, "log_bytes_per_node_visit", s->log_written ? per(s->log.file_bytes, s->visits) : 0.0, &first);
         json_d(f, "trace_s", s->trace_s, &first);
@@ -476,16 +496,22 @@ static bool trace_one(tracer_ctx *c, const rt_ray *ray, rt_hit *hit, char *err, 
         return false;
     stats *s = c->s;
     s->rays++;
-    if (ray->bounce == 0)
+    if (ray->occlusion) {
+        s->occlusion_rays++;
+        s->occluded += ok && hit->prim != RT_NO_HIT;
+    } else if (ray->bounce == 0) {
         s->primary_rays++;
-    else
+    } else {
         s->bounce_rays++;
+    }
     s->overflows += !ok;
     s->hits += ok && hit->prim != RT_NO_HIT;
     add_counts(s, &cnt);
     c->hm_visits[ray->pixel] += (float)cnt.visits;
     c->hm_tris[ray->pixel] += (float)cnt.tri_tests;
-    if (c->embree) {
+    if (c->embree && ray->occlusion) {
+        rt_embree_tally_add_occlusion(&s->occ_tally, c->embree, &c->sc->mesh, ray, hit);
+    } else if (c->embree) {
         rt_hit ref;
         rt_embree_intersect(c->embree, ray, &ref);
         rt_embree_tally_add(&s->tally, &c->sc->mesh, ray, hit, &ref);
@@ -536,9 +562,10 @@ int main(int argc, char **argv)
             o.leaf_size = (int)v;
             break;
         case 'r':
-            if (strcmp(optarg, "primary") && strcmp(optarg, "diffuse"))
-                return bad_usage("--rays: '%s' is not a ray type; allowed: primary, diffuse", optarg);
+            if (strcmp(optarg, "primary") && strcmp(optarg, "diffuse") && strcmp(optarg, "occlusion"))
+                return bad_usage("--rays: '%s' is not a ray type; allowed: primary, diffuse, occlusion", optarg);
             o.diffuse = strcmp(optarg, "diffuse") == 0;
+            o.occlusion = strcmp(optarg, "occlusion") == 0;
             break;
         case 'R':
             if (!rt_parse_resolution(optarg, &o.res_w, &o.res_h, err, sizeof err))
@@ -589,6 +616,8 @@ int main(int argc, char **argv)
     o.scene = argv[optind];
     if (bounces_given && !o.diffuse)
         return bad_usage("--bounces: only with --rays diffuse");
+    if (o.occlusion && o.log)
+        return bad_usage("--log: not with --rays occlusion (trace logs hold primary rays and diffuse paths)");
     if (o.read_log && (o.log || o.image || o.hm_visits || o.hm_tris || o.check_embree))
         return bad_usage("--read-log: only --bvh, --leaf-size, --json and --quiet apply");
     int rc;
@@ -709,6 +738,7 @@ int main(int argc, char **argv)
     }
 
     /* trace: pixel by pixel, each path's rays one after the other */
+    const float ao_tmax = rt_ao_distance(&sc.mesh);
     progress pg = {!o.quiet && isatty(2), now_s(), 0, npix};
     const double tt0 = now_s(), tc0 = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID);
     for (uint32_t py = 0; py < o.res_h && rc == 0; py++) {
@@ -722,7 +752,25 @@ int main(int argc, char **argv)
                 break;
             }
             rt_vec3 col;
-            if (!o.diffuse) {
+            if (o.occlusion) {
+                /* the headlight shade times the share of open AO rays */
+                col = rt_shade_headlight(&sc.mesh, &ray, &hit);
+                uint32_t n = 0, open = 0;
+                rt_ray ao;
+                rt_hit aoh;
+                for (uint32_t k = 0; rc == 0 && k < RT_AO_SAMPLES_DEFAULT; k++) {
+                    if (!rt_ao_ray(&sc.mesh, &ray, &hit, o.seed, k, ao_tmax, &ao))
+                        break;
+                    if (!trace_one(&tc, &ao, &aoh, err, sizeof err))
+                        rc = 2;
+                    n++;
+                    open += aoh.prim == RT_NO_HIT;
+                }
+                if (n) {
+                    const float f = (float)open / (float)n;
+                    col = (rt_vec3){col.x * f, col.y * f, col.z * f};
+                }
+            } else if (!o.diffuse) {
                 col = rt_shade_headlight(&sc.mesh, &ray, &hit);
             } else {
                 rt_path path;
@@ -799,6 +847,10 @@ int main(int argc, char **argv)
     uint64_t mism = embree_mismatches(&s.tally);
     bool embree_fail = o.check_embree && (s.tally.cause[RT_EMBREE_OTHER] > 0 ||
                                           (double)mism > o.max_mismatch_rate * (double)s.tally.rays);
+    const uint64_t occ_mism = embree_mismatches(&s.occ_tally);
+    if (o.check_embree && (s.occ_tally.cause[RT_EMBREE_OTHER] > 0 ||
+                           (double)occ_mism > o.max_mismatch_rate * (double)s.occ_tally.rays))
+        embree_fail = true;
     if (s.overflows)
         embree_fail = true;   /* a ray the hardware's stack cannot trace is a failure too */
 
@@ -806,10 +858,16 @@ int main(int argc, char **argv)
         printf("view       %s, %ux%u, %s", view->name, o.res_w, o.res_h, o.diffuse ? "diffuse paths" : "primary rays");
         if (o.diffuse)
             printf(" (<= %u bounces, seed %" PRIu64 ")", o.bounces, o.seed);
+        if (o.occlusion)
+            printf(" and their occlusion rays (%d per hit, distance %g, seed %" PRIu64 ")", RT_AO_SAMPLES_DEFAULT,
+                   (double)ao_tmax, o.seed);
         printf("\n");
         printf("rays       %" PRIu64 " (%" PRIu64 " primary, %" PRIu64 " bounce), %" PRIu64 " hits, %" PRIu64
                " stack overflows\n",
                s.rays, s.primary_rays, s.bounce_rays, s.hits, s.overflows);
+        if (o.occlusion)
+            printf("occlusion  %" PRIu64 " rays (any hit ends them, no sort), %" PRIu64 " occluded (%.2f%%)\n",
+                   s.occlusion_rays, s.occluded, 100.0 * per(s.occluded, s.occlusion_rays));
         printf("traversal  %" PRIu64 " node visits (%.2f/ray), %" PRIu64 " box tests (%.2f/ray), %" PRIu64
                " leaves (%.2f/ray),\n           %" PRIu64 " triangle tests (%.2f/ray), %" PRIu64 " pushes, %" PRIu64
                " pops, %" PRIu64 " culls, max stack %u\n",
@@ -822,6 +880,14 @@ int main(int argc, char **argv)
                    s.tally.exact_t, mism);
             for (int k = RT_EMBREE_TIE; k < RT_EMBREE_CAUSES; k++)
                 printf(" %s %" PRIu64, rt_embree_cause_name((rt_embree_cause)k), s.tally.cause[k]);
+            if (o.occlusion) {
+                printf("\nembree     %" PRIu64 " occlusion rays compared with rtcOccluded1: %" PRIu64
+                       " same answer (%.4f%%), %" PRIu64 " mismatches:",
+                       s.occ_tally.rays, s.occ_tally.cause[RT_EMBREE_SAME],
+                       100.0 * per(s.occ_tally.cause[RT_EMBREE_SAME], s.occ_tally.rays), occ_mism);
+                for (int k = RT_EMBREE_TIE; k < RT_EMBREE_CAUSES; k++)
+                    printf(" %s %" PRIu64, rt_embree_cause_name((rt_embree_cause)k), s.occ_tally.cause[k]);
+            }
             printf("\n           allowed rate %g, unexplained (other) allowed 0: %s\n", o.max_mismatch_rate,
                    embree_fail ? "FAIL" : "ok");
         }

@@ -35,6 +35,7 @@ typedef struct accel_ray_in {
     float tmin, tmax;
     uint32_t pixel;
     uint8_t bounce;
+    uint8_t occlusion;       /* 1: occlusion ray (any hit ends it, no sort; docs/accel.md) */
 } accel_ray_in;
 
 typedef struct accel_hit {
@@ -71,6 +72,7 @@ typedef struct accel_ray {
     uint32_t tri_next, tri_end;
     uint8_t phase;           /* accel_ray_phase */
     uint8_t bounce;
+    uint8_t occlusion;       /* 1: occlusion ray: the TRV bypasses the sort, the IST's first hit ends it */
     uint16_t trv;            /* owning TRV and its stack slot */
     uint32_t slot;
     uint32_t uid, pixel;
@@ -93,6 +95,7 @@ static inline void accel_ray_start(accel_ray *r, const accel_ray_in *in, uint32_
     r->tri_next = r->tri_end = 0;
     r->phase = RAY_VISIT;
     r->bounce = in->bounce;
+    r->occlusion = in->occlusion;
     r->uid = uid;
     r->pixel = in->pixel;
     r->visits = r->tri_tests = r->loops = 0;

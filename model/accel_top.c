@@ -576,6 +576,9 @@ void accel_top_print_summary(accel_top *t, FILE *out)
     fprintf(out, "cycles      %llu\n", (unsigned long long)t->cycles);
     fprintf(out, "rays        %llu (%llu primary, %llu bounce)\n", (unsigned long long)t->rays_done,
             (unsigned long long)t->sched.primaries, (unsigned long long)t->sched.bounces);
+    if (t->sched.src.occlusion)
+        fprintf(out, "occlusion   %llu rays, %llu occluded\n", (unsigned long long)t->sched.occlusion_rays,
+                (unsigned long long)t->sched.occluded);
     fprintf(out, "MRPS        %.2f at %.0f MHz\n", t->mrps, t->p.clock_mhz);
     fprintf(out, "in flight   %.1f rays mean, %llu max; latency %.0f cycles mean\n", t->stat_in_flight,
             (unsigned long long)t->sched.max_in_flight,

@@ -37,7 +37,7 @@ ist_result ist_core_test(ist_core *c, accel_ray *r, uint64_t now)
     if (c->ev)
         c->ev(c->ev_user, r->uid, ACCEL_EV_TRI, tri, closer, r->closest);
     r->tri_next = tri + 1;
-    if (r->tri_next < r->tri_end)
+    if (r->tri_next < r->tri_end && !(r->occlusion && closer))
         return IST_MORE;
     c->st.leaves++;
     r->phase = RAY_POP;

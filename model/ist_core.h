@@ -9,7 +9,13 @@
  * outcome equals the reference's sequential loop (a stale, larger tmax can
  * only let through a t that the in-order write-back then rejects).
  * A triangle fetch that misses invalidates that test: the ray loops and
- * resumes at that triangle later (looping for next chance). */
+ * resumes at that triangle later (looping for next chance).
+ * An occlusion ray's first hit ends its leaf: the test returns IST_LAST and
+ * the ray goes back to its TRV, which ends it (trv_core.h). The model knows
+ * the hit at issue (as it knows every result at issue); a hardware IST would
+ * learn it at the comparator stage and squash the leaf's later tests, so the
+ * model is optimistic by at most leaf size - 1 issue cycles per occluded
+ * ray (docs/accel.md "Occlusion rays"). */
 #ifndef RTSIM_MODEL_IST_CORE_H
 #define RTSIM_MODEL_IST_CORE_H
 

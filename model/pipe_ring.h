@@ -54,18 +54,27 @@ static inline uint64_t pipe_ring_next_exit(const pipe_ring *p)
 {
     return p->count ? p->items[p->head].exit_cycle : UINT64_MAX;
 }
-/* vcd false: the caller knows no VCD variable is set (a unit without a VCD). */
-static inline __attribute__((always_inline)) void pipe_ring_push_v(pipe_ring *p, uint32_t ray, uint32_t result,
-                                                                   uint64_t cycle, bool vcd)
+/* An item with a latency of its own (a ray that skips stages, e.g. the
+ * TRV's sort bypass): the ring stays in order, so an item whose exit cycle
+ * comes before that of the one ahead of it leaves right after that one.
+ * vcd false: the caller knows no VCD variable is set (a unit without a VCD). */
+static inline __attribute__((always_inline)) void pipe_ring_push_lat_v(pipe_ring *p, uint32_t ray, uint32_t result,
+                                                                       uint64_t cycle, uint32_t latency, bool vcd)
 {
     pipe_item *it = &p->items[(p->head + p->count) & p->mask];   /* no division: this runs every cycle */
     it->ray = ray;
     it->result = result;
-    it->exit_cycle = cycle + p->latency;
+    it->exit_cycle = cycle + latency;
     if (++p->count > p->max_count)
         p->max_count = p->count;
     if (vcd && p->v_occ)
         ks_vcd_set(p->v_occ, p->count);
+}
+/* An item with the ring's latency. */
+static inline __attribute__((always_inline)) void pipe_ring_push_v(pipe_ring *p, uint32_t ray, uint32_t result,
+                                                                   uint64_t cycle, bool vcd)
+{
+    pipe_ring_push_lat_v(p, ray, result, cycle, p->latency, vcd);
 }
 static inline __attribute__((always_inline)) pipe_item pipe_ring_pop_v(pipe_ring *p, bool vcd)
 {

@@ -15,6 +15,8 @@ static const ks_desc_item sched_items[] = {
     {KS_DESC_STAT, "admitted", "rays", "", "", "rays admitted"},
     {KS_DESC_STAT, "completed", "rays", "", "", "rays completed"},
     {KS_DESC_STAT, "bounces", "rays", "", "", "bounce rays admitted"},
+    {KS_DESC_STAT, "occlusion_rays", "rays", "", "", "occlusion rays completed (only in runs with occlusion rays)"},
+    {KS_DESC_STAT, "occluded", "rays", "", "", "occlusion rays that hit something (only in runs with occlusion rays)"},
     {KS_DESC_STAT, "latency_mean", "cycles", "", "", "mean ray latency, admission to completion"},
     {KS_DESC_STAT, "rays_in_flight_mean", "rays", "", "", "time-averaged rays in flight"},
     {KS_DESC_END, 0, 0, 0, 0, 0}};
@@ -113,6 +115,10 @@ void sched_register(sched_unit *s, const char *name, ks_stats *st, ks_vcd *vcd)
         REG("bounces", "rays", "bounce rays admitted", bounces);
         REG("completed", "rays", "rays completed", completed);
         REG("failed", "rays", "rays that overflowed their stack", failed);
+        if (s->src.occlusion) {
+            REG("occlusion_rays", "rays", "occlusion rays completed (any hit ends them; no sort)", occlusion_rays);
+            REG("occluded", "rays", "occlusion rays that hit something in (tmin, tmax)", occluded);
+        }
         REG("max_in_flight", "rays", "most rays in flight at once", max_in_flight);
         REG("latency_max", "cycles", "longest ray latency, admission to completion", latency_max);
         REG("admit_stall_cycles", "cycles", "cycles a ready ray found no free slot or a full TRV FIFO",
@@ -175,6 +181,10 @@ static void complete(sched_unit *s, uint32_t rec, uint64_t cycle)
         s->latency_max = lat;
     if (s->lat_hist)
         ks_histogram_add(s->lat_hist, (double)lat);
+    if (r->occlusion) {
+        s->occlusion_rays++;
+        s->occluded += r->prim != ACCEL_NO_HIT;
+    }
     if (failed) {
         s->failed++;
         s->any_failed = true;

@@ -27,6 +27,9 @@
 typedef struct accel_source {
     void *user;
     uint64_t primary_count;
+    /* The workload has occlusion rays: the scheduler then registers their
+     * statistics (occlusion_rays, occluded); other runs' outputs are unchanged. */
+    bool occlusion;
     /* Writes primary ray i (i < primary_count). */
     void (*primary)(void *user, uint64_t i, accel_ray_in *out);
     /* The next ray of the same pixel after `in` completed with `hit`, or
@@ -69,6 +72,7 @@ typedef struct sched_unit {
     bool watchdog_fired, any_failed;
     /* statistics */
     uint64_t admitted, primaries, bounces, completed, failed, in_flight, max_in_flight;
+    uint64_t occlusion_rays, occluded;   /* completed occlusion rays, and those that hit */
     uint64_t latency_sum, latency_max, admit_stall_cycles;
     uint64_t in_flight_area, last_area_cycle; /* for mean rays in flight */
     ks_histogram *lat_hist;

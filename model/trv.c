@@ -87,6 +87,8 @@ bool trv_init(trv_unit *t, uint32_t id, const char *name, const trv_params *p, c
     t->rays = rays;
     t->clk = clk;
     t->depth = trv_pipeline_depth(p);
+    const sort_net *net = sort_net_get(p->core.width);
+    t->latency_bypass = t->depth - 1 - (net ? (uint32_t)net->layers : 0);
     /* one ray per stage after issue: capacity depth, exit depth-1 cycles later */
     if (!pipe_ring_init(&t->pipe, t->depth, t->depth - 1)) {
         snprintf(err, errlen, "%s: out of memory", name);
@@ -276,7 +278,9 @@ static inline __attribute__((always_inline)) int trv_step_body(trv_unit *t, uint
                 t->flops += (uint64_t)t->p.box_flops * (uint64_t)t->p.core.width;
             if (m.result == TRV_OVERFLOW)
                 t->failed = true;
-            pipe_ring_push_v(&t->pipe, m.ray, m.result, cycle, vcd);
+            /* occlusion rays skip the sort stages (paper sec. 3.1) */
+            pipe_ring_push_lat_v(&t->pipe, m.ray, m.result, cycle, r->occlusion ? t->latency_bypass : t->pipe.latency,
+                                 vcd);
             t->busy_cycles++;
             if (m.result != TRV_LOOP_MISS && m.result != TRV_LOOP_BLOCKED && t->core.fetch_cycles > stack_cycles)
                 stack_cycles = t->core.fetch_cycles;   /* a node spanning two lines of one L1 bank */

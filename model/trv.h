@@ -9,6 +9,11 @@
  * goes to: the loop FIFO (next node, or "looping for next chance" after a
  * node L1 miss), the IST (leaf), or the scheduler (done). A stack operation
  * needing k > 1 bank cycles stalls issue for k - 1 cycles.
+ * Occlusion rays bypass the sorting network (paper sec. 3.1): every pass of
+ * one leaves the pipe sort-layers cycles earlier (latency_bypass), in order
+ * behind any slower ray ahead of it (pipe_ring.h). The VCD's per-stage ray
+ * variables still show such a ray at issue + k (as if it went through the
+ * sort stages); issue_ray and exit_ray show its real cycles.
  * Issue priority: rays back from the IST, then looping rays, then new rays.
  * Ports (FIFOs of trv_msg, created by the top level): in_new (scheduler),
  * in_ist (IST returns), out_ist (leaf work), out_done (to the scheduler);
@@ -49,6 +54,7 @@ typedef struct trv_unit {
     trv_params p;
     uint32_t id;
     uint32_t depth;          /* total pipeline stages */
+    uint32_t latency_bypass; /* issue to exit of an occlusion ray: depth - 1 - sort layers */
     trv_core core;
     accel_ray *rays;         /* the top level's ray table */
     ks_clocked *proc;

@@ -66,6 +66,15 @@ static trv_pass_result pop_next(trv_core *c, accel_ray *r, uint32_t *stack_cycle
     uint32_t reads = 0;
     trv_stack_entry e;
     trv_pass_result res = TRV_DONE;
+    if (r->occlusion && r->prim != ACCEL_NO_HIT) {
+        /* an occlusion ray back from the IST with a hit is answered: the
+         * slot's stack pointer is reset (no entry is read) and the ray ends */
+        trv_stack_clear(&c->stack, r->slot);
+        r->phase = RAY_DONE;
+        emit(c, r, ACCEL_EV_DONE, r->prim, 0, r->closest);
+        c->st.done++;
+        return TRV_DONE;
+    }
     c->st.pop_passes++;
     while (trv_stack_peek(&c->stack, r->slot, reads, &e)) {
         reads++;
@@ -152,8 +161,17 @@ trv_pass_result trv_core_pass(trv_core *c, accel_ray *r, uint64_t now, uint32_t 
         pack_keys(tnear, hit_bits, n, keys);
     const int hits = trv_popcount8(hit_bits);
     c->st.box_lanes += (uint64_t)n;
-    c->st.sort_passes++;
-    c->st.sort_swaps += (uint64_t)sort_net_apply_packed_fast(c->net, keys);
+    if (!r->occlusion) {
+        c->st.sort_passes++;
+        c->st.sort_swaps += (uint64_t)sort_net_apply_packed_fast(c->net, keys);
+    } else {
+        /* occlusion rays bypass the sorting network (paper sec. 3.1): the
+         * hit lanes in slot order (a priority encoder, no comparators) */
+        int k = 0;
+        for (int i = 0; i < n; i++)
+            if ((hit_bits >> i) & 1)
+                keys[k++] = keys[i];
+    }
     if (hits == 0)
         return pop_next(c, r, stack_cycles);
 

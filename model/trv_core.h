@@ -13,6 +13,11 @@
  *     distance stack, entries with tnear > closest are culled in the same
  *     operation (one read each); the stack empty -> DONE.
  * The new target is a leaf -> TO_IST, an inner node -> CONTINUE.
+ * Occlusion rays (r->occlusion; paper sec. 3.1 "occlusion rays may bypass
+ * the sort"): VISIT takes the hit children in slot order instead of through
+ * the sorting network (sort_passes and sort_swaps do not count them); a POP
+ * pass of a ray that came back from the IST with a hit resets the slot's
+ * stack and ends the ray (DONE) without reading an entry.
  * Events (accel_ray.h) are emitted only for committed work, in the
  * reference traversal's order. */
 #ifndef RTSIM_MODEL_TRV_CORE_H

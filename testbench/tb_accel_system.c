@@ -5,7 +5,9 @@
  * event sequence (node visits, pushes, pops, culls, leaves, triangle tests,
  * done) must equal the reference log. Also: the diffuse ray count equals the
  * tracer's own diffuse ray set, the run is deterministic (same cycles and
- * statistics twice), and the undersized-FIFO deadlock is reported. */
+ * statistics twice), and the undersized-FIFO deadlock is reported. Occlusion rays (AO of the primary
+ * hits) are compared the same way on both machines, with no sort pass, and
+ * their sort bypass is measured in cycles on a warm single-pass ray. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -15,8 +17,10 @@
 #include "model/accel_config.h"
 #include "model/accel_top.h"
 #include "model/memsys_config.h"
+#include "model/sort_net.h"
 #include "testbench/tb.h"
 #include "tracer/builtin.h"
+#include "tracer/occlusion.h"
 #include "tracer/ray_set.h"
 #include "tracer/traverse.h"
 
@@ -150,6 +154,7 @@ typedef struct case_spec {
     const char *preset, *memory;
     int width;                  /* 0: the preset's branching factor */
     bool diffuse, exhaustive;
+    bool occlusion;             /* AO rays of the primary hits (rtsim_frame_occlusion) */
     uint32_t w, h;
     uint64_t seed;
     const char *const *extra;   /* NULL-terminated overrides, or NULL */
@@ -164,7 +169,8 @@ static void check_spec(const rt_scene *sc, const case_spec *cs, totals *tot, ray
     bool diffuse = cs->diffuse;
     uint32_t w = cs->w, h = cs->h;
     snprintf(name, sizeof name, "system_%s_%s%s%.0d_%s_%ux%u_%s%s%s", sc->name, preset, width ? "_width" : "", width,
-             diffuse ? "diffuse" : "primary", w, h, memory, cs->tag ? "_" : "", cs->tag ? cs->tag : "");
+             diffuse ? "diffuse" : cs->occlusion ? "occlusion" : "primary", w, h, memory, cs->tag ? "_" : "",
+             cs->tag ? cs->tag : "");
     tb_begin(name);
     snprintf(memset_, sizeof memset_, "memory.model=%s", memory);
     snprintf(widthset, sizeof widthset, "machine.branching=%d", width);
@@ -196,6 +202,8 @@ static void check_spec(const rt_scene *sc, const case_spec *cs, totals *tot, ray
     if (!TB_CHECK(rtsim_frame_init(&fr, &sc->mesh, &sc->views.v[0], w, h, diffuse, 4, cs->seed ? cs->seed : 1, false,
                                    &src, err, sizeof err),
                   "%s", err))
+        goto out;
+    if (cs->occlusion && !TB_CHECK(rtsim_frame_occlusion(&fr, &img, RT_AO_SAMPLES_DEFAULT, &src, err, sizeof err), "%s", err))
         goto out;
     fr.hook = model_complete;
     fr.hook_user = &log;
@@ -259,10 +267,43 @@ static void check_spec(const rt_scene *sc, const case_spec *cs, totals *tot, ray
     tot->event_mismatch += ev_bad;
     tot->events += nev;
 
-    /* ray count: the tracer's own primary + diffuse set */
+    /* ray count: the tracer's own primary + diffuse set, or its occlusion set */
     rt_ray_set prim_set = {0}, dif_set = {0};
     if (TB_CHECK(rt_ray_set_primary(&sc->views.v[0], w, h, &prim_set, err, sizeof err), "%s", err)) {
         uint64_t want = prim_set.n;
+        if (cs->occlusion) {
+            rt_ray_set occ_set = {0};
+            if (TB_CHECK(rt_ray_set_occlusion(&sc->mesh, &img, &tp, &prim_set, cs->seed ? cs->seed : 1,
+                                              RT_AO_SAMPLES_DEFAULT, rt_ao_distance(&sc->mesh), &occ_set, err,
+                                              sizeof err),
+                         "%s", err)) {
+                want = occ_set.n;
+                /* the same rays in the same order (uid = admission order = set order here) */
+                uint64_t differ = 0;
+                for (uint32_t i = 0; i < occ_set.n && i < log.cap && i < log.completed; i++) {
+                    const rt_ray *a = &occ_set.rays[i], *b = &log.recs[i].ray;
+                    differ += memcmp(&a->org, &b->org, sizeof a->org) || memcmp(&a->dir, &b->dir, sizeof a->dir) ||
+                              !same_float(a->tmax, b->tmax) || a->pixel != b->pixel || !b->occlusion;
+                }
+                TB_EQ_INT(differ, 0);
+            }
+            rt_ray_set_free(&occ_set);
+            /* the sort bypass: no pass of an occlusion ray goes through the sorting network */
+            double sorts = 0, visits = 0, v;
+            char k[64];
+            for (uint32_t i = 0; i < accel_top_params(top)->trv_count; i++) {
+                snprintf(k, sizeof k, "trv%u.sort_passes", i);
+                sorts += ks_stats_value(accel_top_stats(top), k, &v) == 0 ? v : 0;
+                snprintf(k, sizeof k, "trv%u.visits", i);
+                visits += ks_stats_value(accel_top_stats(top), k, &v) == 0 ? v : 0;
+            }
+            TB_CHECK(sorts == 0 && visits > 0, "occlusion rays: %g sort passes (want 0) in %g visits", sorts, visits);
+            double occl = -1, occd = -1;
+            ks_stats_value(accel_top_stats(top), "sched.occlusion_rays", &occl);
+            ks_stats_value(accel_top_stats(top), "sched.occluded", &occd);
+            TB_CHECK(occl == (double)log.completed && occd > 0 && occd < occl, "statistics: %g occlusion rays, %g occluded",
+                     occl, occd);
+        }
         if (diffuse && TB_CHECK(rt_ray_set_diffuse(&sc->mesh, &img, &tp, &prim_set, cs->seed ? cs->seed : 1, 4, &dif_set,
                                                    err, sizeof err),
                                 "%s", err))
@@ -477,6 +518,99 @@ static void test_determinism_and_deadlock(const rt_scene *sc)
     tb_end();
 }
 
+/* The sort bypass in cycles: one ray that misses the root's children (a
+ * single TRV pass), traced twice in a row (the second time as the "bounce"
+ * of the first, so the node L1 is warm and the pass never loops). Its
+ * latency with the occlusion flag is exactly the sort layers shorter: 1
+ * cycle for BVH2, 3 for MBVH4 (sort_net.h, paper sec. 3.1). */
+typedef struct one_ray_src {
+    accel_ray_in ray;
+    uint64_t latency[2];
+    uint64_t passes;
+} one_ray_src;
+
+static void one_ray_primary(void *user, uint64_t i, accel_ray_in *out)
+{
+    (void)i;
+    *out = ((one_ray_src *)user)->ray;
+}
+
+static bool one_ray_again(void *user, const accel_ray_in *in, const accel_hit *hit, accel_ray_in *out)
+{
+    (void)hit;
+    if (in->bounce)
+        return false;
+    *out = ((one_ray_src *)user)->ray;
+    out->bounce = 1;
+    return true;
+}
+
+static void one_ray_done(void *user, uint32_t uid, const accel_ray_in *in, const accel_hit *hit, uint64_t admit,
+                         uint64_t done, uint32_t visits, uint32_t tri_tests, bool failed)
+{
+    (void)uid, (void)hit, (void)visits, (void)tri_tests, (void)failed;
+    ((one_ray_src *)user)->latency[in->bounce ? 1 : 0] = done - admit;
+}
+
+static void test_sort_bypass_latency(const rt_scene *sc)
+{
+    static const char *const presets[] = {"bvh2", "mbvh4"};
+    /* one TRV: the second trace meets the node L1 the first one filled */
+    static const char *const fixed[] = {"memory.model=fixed", "trv.count=1", NULL};
+    for (int m = 0; m < 2; m++) {
+        char name[64], err[4096];
+        snprintf(name, sizeof name, "system_sort_bypass_latency_%s", presets[m]);
+        tb_begin(name);
+        rtcfg *cfg = machine_cfg(presets[m], fixed, err, sizeof err);
+        rt_bvh_params bp;
+        rt_bvh_params_default(&bp);
+        rt_bvh_image img;
+        memset(&img, 0, sizeof img);
+        if (!TB_CHECK(cfg != NULL, "%s", err) ||
+            !TB_CHECK((bp.width = (int)rtcfg_int(cfg, "machine.branching"),
+                       rt_bvh_build(&sc->mesh, &bp, &img, NULL, err, sizeof err)),
+                      "%s", err)) {
+            rtcfg_destroy(cfg);
+            tb_end();
+            continue;
+        }
+        rt_vec3 lo, hi;
+        rt_mesh_bounds(&sc->mesh, &lo, &hi);
+        uint64_t lat[2] = {0, 0}, passes[2] = {0, 0};
+        for (int occ = 0; occ < 2; occ++) {
+            /* from beyond the scene's upper corner, away from it: every root slot misses */
+            one_ray_src o = {.ray = {{hi.x + 1, hi.y + 1, hi.z + 1}, {0.577f, 0.577f, 0.577f}, 0.0f, 1e30f, 0, 0,
+                                     (uint8_t)occ}};
+            accel_source src = {&o, 1, occ == 1, one_ray_primary, one_ray_again, one_ray_done};
+            accel_image aimg = rtsim_image(&img);
+            accel_top_opts opts = {0};
+            accel_top *top = accel_top_create(cfg, &aimg, &src, &opts, err, sizeof err);
+            if (!TB_CHECK(top != NULL, "%s", err))
+                break;
+            TB_CHECK(accel_top_run(top, NULL, NULL, err, sizeof err) == 0, "%s", err);
+            /* committed passes: all passes but those invalidated by a node L1 miss or block */
+            double v = 0, x;
+            static const char *const keys[] = {"trv0.passes", "trv0.loops_miss", "trv0.loops_blocked"};
+            for (int i = 0; i < 3; i++)
+                v += (i ? -1 : 1) * (ks_stats_value(accel_top_stats(top), keys[i], &x) == 0 ? x : 0);
+            passes[occ] = (uint64_t)v;
+            lat[occ] = o.latency[1];
+            accel_top_destroy(top);
+        }
+        const int layers = sort_net_get(bp.width)->layers;
+        TB_CHECK(passes[0] == 2 && passes[1] == 2, "one committed pass per trace (%llu, %llu passes in all)",
+                 (unsigned long long)passes[0], (unsigned long long)passes[1]);
+        TB_CHECK(lat[0] > 0 && lat[1] + (uint64_t)layers == lat[0],
+                 "warm single-pass latency: closest-hit %llu cycles, occlusion %llu, want %d fewer",
+                 (unsigned long long)lat[0], (unsigned long long)lat[1], layers);
+        printf("INFO %s: warm single-pass ray latency %llu cycles closest-hit, %llu occlusion (sort layers %d)\n", name,
+               (unsigned long long)lat[0], (unsigned long long)lat[1], layers);
+        rt_bvh_image_free(&img);
+        rtcfg_destroy(cfg);
+        tb_end();
+    }
+}
+
 /* LPDDR3 stress configurations: tiny MSHR counts, one-entry memory-side FIFOs,
  * one request in flight at the memory; a lost or refused-then-forgotten line
  * shows up as a watchdog (livelock) or deadlock failure. (Not in them, as they
@@ -511,7 +645,7 @@ static void check_idle_skip_equivalence(const rt_scene *sc, case_spec cs, totals
     check_spec(sc, &cs, tot, &b);
     char name[512];
     snprintf(name, sizeof name, "system_%s_%s_%s_idle_skip_equals_exhaustive%s%s", sc->name, cs.preset,
-             cs.diffuse ? "diffuse" : "primary", tag ? "_" : "", tag ? tag : "");
+             cs.diffuse ? "diffuse" : cs.occlusion ? "occlusion" : "primary", tag ? "_" : "", tag ? tag : "");
     tb_begin(name);
     TB_CHECK(a.n > 0 && a.admit && b.admit, "both runs recorded rays");
     TB_EQ_INT(a.n, b.n);
@@ -622,6 +756,12 @@ int main(void)
             check_case(&sc, presets[m], "fixed", false, small ? 16 : 48, small ? 9 : 27, &tot);
             check_case(&sc, presets[m], "fixed", true, small ? 8 : 24, small ? 5 : 14, &tot);
         }
+        /* occlusion rays (AO of the primary hits): sort bypass, any-hit */
+        for (int m = 0; m < 2; m++) {
+            case_spec oc = {.preset = presets[m], .memory = "fixed", .occlusion = true, .w = small ? 12 : 32,
+                            .h = small ? 7 : 18};
+            check_spec(&sc, &oc, &tot, NULL);
+        }
         /* and the default LPDDR3 memory on one case per scene */
         check_case(&sc, "mbvh4", "lpddr3", true, small ? 8 : 48, small ? 5 : 27, &tot);
         lpddr3_sweep(&sc, i, full_sweep, small, &tot);
@@ -631,6 +771,10 @@ int main(void)
                 if (wd != 4)
                     check_case_width(&sc, "mbvh4", wd, "fixed", wd == 5, small ? 12 : 32, small ? 7 : 18, &tot);
             test_determinism_and_deadlock(&sc);
+            test_sort_bypass_latency(&sc);
+            case_spec ol = {.preset = "mbvh4", .memory = "lpddr3", .occlusion = true, .w = small ? 8 : 24,
+                            .h = small ? 5 : 14, .seed = 3};
+            check_idle_skip_equivalence(&sc, ol, &tot);
             test_banks_and_looping(&sc);
         }
         rt_scene_free(&sc);

@@ -398,7 +398,7 @@ static void test_trv_ist_tiny(void)
         trv.ev = log_ev;
         trv.ev_user = variant ? &flaky : &ideal;
         accel_ray r;
-        accel_ray_in in = {{0, 0, 0}, {1, 0, 0}, 0.0f, 1e30f, 7, 0};
+        accel_ray_in in = {{0, 0, 0}, {1, 0, 0}, 0.0f, 1e30f, 7, 0, 0};
         accel_ray_start(&r, &in, 0);
         r.slot = 1;
         int loops;
@@ -438,7 +438,7 @@ static void test_trv_ist_tiny(void)
     trv.ev = log_ev, trv.ev_user = &nc;
     ist_core ist = {&sc.img, NULL, NULL, log_ev, &nc, {0}, 1};
     accel_ray r;
-    accel_ray_in in = {{0, 0, 0}, {1, 0, 0}, 0.0f, 1e30f, 7, 0};
+    accel_ray_in in = {{0, 0, 0}, {1, 0, 0}, 0.0f, 1e30f, 7, 0, 0};
     accel_ray_start(&r, &in, 0);
     r.slot = 0;
     int loops;
@@ -452,6 +452,47 @@ static void test_trv_ist_tiny(void)
     p.width = 2;
     TB_CHECK(!trv_core_init(&trv, &p, &sc.img, NULL, NULL, err, sizeof err) && strstr(err, "width"), "width mismatch: %s",
              err);
+    tb_end();
+}
+
+/* An occlusion ray on the tiny scene: no sort, so node 1 (slot 0, tnear 4)
+ * is visited before the nearer leaf (slot 1, tnear 1), which is pushed; the
+ * first triangle hit (tri 2 at x = 4.5) ends the ray, and the pass that ends
+ * it clears the pushed leaf from the slot's stack without reading it. */
+static void test_trv_ist_tiny_occlusion(void)
+{
+    tb_begin("trv_ist_occlusion_ray_slot_order_any_hit");
+    static tiny_scene sc;
+    tiny_build(&sc);
+    char err[200];
+    trv_core_params p = {4, true, 2, 64, 3};
+    trv_core trv;
+    TB_CHECK(trv_core_init(&trv, &p, &sc.img, NULL, NULL, err, sizeof err), "%s", err);
+    ev_log lg = {0};
+    trv.ev = log_ev, trv.ev_user = &lg;
+    ist_core ist = {&sc.img, NULL, NULL, log_ev, &lg, {0}, 1};
+    accel_ray r;
+    accel_ray_in in = {{0, 0, 0}, {1, 0, 0}, 0.0f, 1e30f, 7, 1, 1};
+    accel_ray_start(&r, &in, 0);
+    r.slot = 1;
+    int loops;
+    run_ray(&trv, &ist, &r, &loops);
+    TB_EQ_INT(r.phase, RAY_DONE);
+    /* VISIT 0, PUSH leaf (0, 2, t=1), VISIT 1, LEAF 2 1, TRI 2 (hit), DONE 72 */
+    static const int kinds[] = {ACCEL_EV_VISIT, ACCEL_EV_PUSH, ACCEL_EV_VISIT, ACCEL_EV_LEAF, ACCEL_EV_TRI, ACCEL_EV_DONE};
+    TB_EQ_INT(lg.n, 6);
+    for (int i = 0; i < 6 && i < lg.n; i++)
+        TB_CHECK(lg.kind[i] == kinds[i], "event %d kind %d want %d", i, lg.kind[i], kinds[i]);
+    TB_CHECK(lg.a[1] == 0 && lg.b[1] == 2 && lg.t[1] == 1.0f, "the nearer leaf is pushed (slot order)");
+    TB_CHECK(lg.a[2] == 1, "node 1 (slot 0) is visited first");
+    TB_CHECK(lg.a[4] == 2 && lg.b[4] == 1 && lg.a[5] == 72 && lg.t[5] == 4.5f, "tri 2 at 4.5 answers the ray");
+    TB_CHECK(r.prim == 72 && r.closest == 4.5f, "hit kept (%u %g)", r.prim, r.closest);
+    TB_EQ_INT(trv.st.sort_passes, 0);
+    TB_EQ_INT(trv.st.sort_swaps, 0);
+    TB_EQ_INT(trv.st.pop_passes, 0);
+    TB_EQ_INT(trv_stack_size(&trv.stack, 1), 0);
+    TB_EQ_INT(trv.stack.st.pops, 0);
+    trv_core_free(&trv);
     tb_end();
 }
 
@@ -482,6 +523,7 @@ int main(void)
     test_slab_lanes();
     test_stack_banks();
     test_trv_ist_tiny();
+    test_trv_ist_tiny_occlusion();
     test_module_tables();
     return tb_finish();
 }

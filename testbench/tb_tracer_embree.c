@@ -194,11 +194,11 @@ static void test_classifier(void)
     m.tris = malloc(sizeof ix);
     memcpy(m.tris, ix, sizeof ix);
     m.nverts = 6, m.ntris = 4;
-    rt_ray r = {{0.5f, 0.5f, 1}, {0, 0, -1}, 0.0f, FLT_MAX, 0, 0};   /* exactly on the shared edge */
+    rt_ray r = {{0.5f, 0.5f, 1}, {0, 0, -1}, 0.0f, FLT_MAX, 0, 0, 0};   /* exactly on the shared edge */
     rt_hit a = {1, 0.5f, 0.5f, 0}, b = {1, 0, 0.5f, 1};
     TB_CHECK(rt_embree_classify(&m, &r, &a, &b) == RT_EMBREE_TIE, "shared edge: %s",
              rt_embree_cause_name(rt_embree_classify(&m, &r, &a, &b)));
-    rt_ray r2 = {{0.2f, 0.2f, 1}, {0, 0, -1}, 0.0f, FLT_MAX, 0, 0};
+    rt_ray r2 = {{0.2f, 0.2f, 1}, {0, 0, -1}, 0.0f, FLT_MAX, 0, 0, 0};
     rt_hit c = {1, 0.2f, 0.2f, 0}, d = {1, 0.2f, 0.2f, 2};
     TB_CHECK(rt_embree_classify(&m, &r2, &c, &d) == RT_EMBREE_COPLANAR, "duplicate");
     rt_hit same = {1, 0.2f, 0.2f, 0}, near = {1.000001f, 0.2f, 0.2f, 0};

@@ -156,7 +156,7 @@ static void test_bounce(void)
     unsigned hc[BINS] = {0}, ha[BINS] = {0}, below = 0;
     double mean_cos = 0;
     for (uint32_t p = 0; p < N; p++) {
-        rt_ray in = {{0.25f, 0.5f, 10}, {0, 0, -1}, 0, RT_RAY_TMAX, p, 0};
+        rt_ray in = {{0.25f, 0.5f, 10}, {0, 0, -1}, 0, RT_RAY_TMAX, p, 0, 0};
         rt_hit hit = {10, 0.1f, 0.1f, 0};
         rt_ray out;
         if (!rt_bounce_ray(&plane, &in, &hit, 99, 4, &out)) {
@@ -184,7 +184,7 @@ static void test_bounce(void)
     tb_end();
 
     tb_begin("bounce_faces_incoming_side_offsets_and_terminates");
-    rt_ray up = {{0, 0, -5}, {0, 0, 1}, 0, RT_RAY_TMAX, 42, 1};
+    rt_ray up = {{0, 0, -5}, {0, 0, 1}, 0, RT_RAY_TMAX, 42, 1, 0};
     rt_hit hit = {5, 0, 0, 0};
     rt_ray out;
     TB_CHECK(rt_bounce_ray(&plane, &up, &hit, 1, 4, &out), "bounce from below");
@@ -216,12 +216,12 @@ static void test_bounce(void)
     for (int pass = 0; pass < 2; pass++)
         for (int k = 0; k < P; k++) {
             uint32_t i = pass ? (uint32_t)(P - 1 - k) : (uint32_t)k;
-            rt_ray in = {{0, 0, 3}, {0.1f, 0, -1}, 0, RT_RAY_TMAX, i * 977u, (uint8_t)(i % 4)};
+            rt_ray in = {{0, 0, 3}, {0.1f, 0, -1}, 0, RT_RAY_TMAX, i * 977u, (uint8_t)(i % 4), 0};
             rt_hit h = {3, 0, 0, 0};
             rt_bounce_ray(&plane, &in, &h, 5, 4, pass ? &rev[i] : &fwd[i]);
         }
     TB_CHECK(memcmp(fwd, rev, sizeof fwd) == 0, "forward and reverse order give the same rays");
-    rt_ray in = {{0, 0, 3}, {0.1f, 0, -1}, 0, RT_RAY_TMAX, 7, 0};
+    rt_ray in = {{0, 0, 3}, {0.1f, 0, -1}, 0, RT_RAY_TMAX, 7, 0, 0};
     rt_hit h = {3, 0, 0, 0};
     rt_ray s1, s2;
     rt_bounce_ray(&plane, &in, &h, 5, 4, &s1);
@@ -296,7 +296,7 @@ static void test_no_self_hits(void)
 static void test_shade(void)
 {
     tb_begin("shade_headlight_sky_and_path_accumulation");
-    rt_ray r = {{0, 0, 5}, {0, 0, -2}, 0, RT_RAY_TMAX, 0, 0};
+    rt_ray r = {{0, 0, 5}, {0, 0, -2}, 0, RT_RAY_TMAX, 0, 0, 0};
     rt_hit hit = {2.5f, 0, 0, 0}, miss = {RT_RAY_TMAX, 0, 0, RT_NO_HIT};
     rt_vec3 c = rt_shade_headlight(&plane, &r, &hit);
     TB_CHECK(fabsf(c.x - RT_SHADE_ALBEDO) < 1e-6f && c.x == c.y && c.y == c.z, "head-on grey %g", (double)c.x);

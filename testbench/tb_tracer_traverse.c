@@ -257,7 +257,7 @@ static void test_hand_made_order_and_cull(void)
     const rt_vec3 v[6] = {{-1, -1, -6}, {1, -1, -6}, {0, 1, -6}, {-1, -1, -2}, {1, -1, -2}, {0, 1, -2}};
     for (int i = 0; i < 6; i++)
         m.verts[i] = v[i], m.tris[i] = (uint32_t)i;
-    const rt_ray ray = {{0, 0, 0}, {0, 0, -1}, 0.0f, FLT_MAX, 0, 0};
+    const rt_ray ray = {{0, 0, 0}, {0, 0, -1}, 0.0f, FLT_MAX, 0, 0, 0};
     for (int w = 2; w <= 4; w += 2) {
         rt_bvh_image img;
         if (!build(&m, w, 1, &img))

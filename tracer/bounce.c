@@ -79,5 +79,6 @@ bool rt_bounce_ray(const rt_mesh *mesh, const rt_ray *in, const rt_hit *hit, uin
     out->tmax = RT_RAY_TMAX;
     out->pixel = in->pixel;
     out->bounce = (uint8_t)(in->bounce + 1u);
+    out->occlusion = 0;
     return true;
 }

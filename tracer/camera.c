@@ -62,6 +62,7 @@ rt_ray rt_camera_primary_ray(const rt_camera *cam, uint32_t px, uint32_t py)
     r.tmax = RT_RAY_TMAX;
     r.pixel = py * cam->width + px;
     r.bounce = 0;
+    r.occlusion = 0;
     return r;
 }
 

@@ -112,6 +112,23 @@ void rt_embree_intersect(const rt_embree *e, const rt_ray *ray, rt_hit *hit)
     }
 }
 
+bool rt_embree_occluded(const rt_embree *e, const rt_ray *ray)
+{
+    struct RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    struct RTCRay r;
+    r.org_x = ray->org.x, r.org_y = ray->org.y, r.org_z = ray->org.z;
+    r.dir_x = ray->dir.x, r.dir_y = ray->dir.y, r.dir_z = ray->dir.z;
+    r.tnear = nextafterf(ray->tmin, INFINITY);   /* the same open interval as rt_embree_intersect */
+    r.tfar = nextafterf(ray->tmax, -INFINITY);
+    r.time = 0.0f;
+    r.mask = UINT32_MAX;
+    r.id = 0;
+    r.flags = 0;
+    rtcOccluded1(e->scene, &ctx, &r);
+    return r.tfar == -INFINITY;   /* Embree's mark of an occluded ray */
+}
+
 const char *rt_embree_cause_name(rt_embree_cause c)
 {
     static const char *names[RT_EMBREE_CAUSES] = {"same", "tie", "coplanar", "gap", "edge", "t_round", "other"};
@@ -261,6 +278,53 @@ rt_embree_cause rt_embree_classify(const rt_mesh *mesh, const rt_ray *ray, const
         return (xo.t - xe.t) <= xo.err_t + xe.err_t ? RT_EMBREE_T_ROUND : RT_EMBREE_OTHER;
     }
     return near_edge(&xo) ? RT_EMBREE_EDGE : RT_EMBREE_OTHER;
+}
+
+/* The exact distance x->t lies within the error bound of the ray's ends. */
+static bool near_ends(const rt_ray *r, const prim_exact *x)
+{
+    if (isnan(x->t))
+        return false;
+    return fabs(x->t - (double)r->tmax) <= x->err_t || fabs(x->t - (double)r->tmin) <= x->err_t;
+}
+
+rt_embree_cause rt_embree_classify_occlusion(const rt_mesh *mesh, const rt_ray *ray, const rt_hit *ours,
+                                             bool embree_occluded, const rt_hit *ref)
+{
+    const bool occ = ours->prim != RT_NO_HIT;
+    if (occ == embree_occluded)
+        return RT_EMBREE_SAME;
+    if (occ) {
+        /* we found Q in the interval, Embree found nothing */
+        const prim_exact xo = analyse(mesh, ray, ours->prim);
+        if (near_edge(&xo))
+            return RT_EMBREE_EDGE;
+        return near_ends(ray, &xo) ? RT_EMBREE_T_ROUND : RT_EMBREE_OTHER;
+    }
+    /* Embree found P, we found nothing */
+    if (ref->prim == RT_NO_HIT || ref->prim >= mesh->ntris)
+        return RT_EMBREE_OTHER;
+    bool whit;
+    (void)wald_prim(mesh, ray, ref->prim, &whit);
+    if (whit)
+        return RT_EMBREE_OTHER;   /* our test takes P: the traversal lost it */
+    const prim_exact xe = analyse(mesh, ray, ref->prim);
+    if (near_edge(&xe))
+        return RT_EMBREE_GAP;
+    return near_ends(ray, &xe) ? RT_EMBREE_T_ROUND : RT_EMBREE_OTHER;
+}
+
+rt_embree_cause rt_embree_tally_add_occlusion(rt_embree_tally *t, const rt_embree *e, const rt_mesh *mesh,
+                                              const rt_ray *ray, const rt_hit *ours)
+{
+    const bool eo = rt_embree_occluded(e, ray);
+    rt_hit ref = {ray->tmax, 0.0f, 0.0f, RT_NO_HIT};
+    if (eo != (ours->prim != RT_NO_HIT))
+        rt_embree_intersect(e, ray, &ref);
+    const rt_embree_cause c = rt_embree_classify_occlusion(mesh, ray, ours, eo, &ref);
+    t->rays++;
+    t->cause[c]++;
+    return c;
 }
 
 rt_embree_cause rt_embree_tally_add(rt_embree_tally *t, const rt_mesh *mesh, const rt_ray *ray, const rt_hit *ours,

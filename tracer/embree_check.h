@@ -1,6 +1,7 @@
 /* embree_check.h — Embree 3 (C API, Debian libembree-dev) as the functional
- * reference: the same mesh in an Embree scene, rtcIntersect1 per ray, and the
- * classification of every difference from our closest hit.
+ * reference: the same mesh in an Embree scene, rtcIntersect1 per ray (and
+ * rtcOccluded1 per occlusion ray), and the classification of every
+ * difference from our closest hit (or occlusion answer).
  *
  * Contract: the Embree device runs single-threaded ("threads=1") so results
  * and timings are deterministic and comparable with ours. Ray convention: we
@@ -86,6 +87,28 @@ typedef struct rt_embree_tally {
     uint64_t t_bound;   /* SAME with |dt| > 1e-5 relative, within the error bound */
     uint64_t cause[RT_EMBREE_CAUSES];
 } rt_embree_tally;
+
+/* Occlusion rays (ray->occlusion, traverse.h any-hit): only the answer
+ * occluded / not occluded is compared, with Embree's rtcOccluded1 on the
+ * same interval. When the answers differ, Embree's closest hit (ref, from
+ * rt_embree_intersect) names a primitive it found, and the cause is:
+ *   EDGE      we are occluded by Q, Embree is not, and Q's exact hit point
+ *             is within the error bound of an edge of Q
+ *   GAP       Embree is occluded by P, our Wald test rejects P, and P's exact
+ *             hit point is within the error bound of an edge of P
+ *   T_ROUND   the exact distance of our Q (or of Embree's P, rejected by
+ *             our test) is within the error bound of tmin or tmax: the ray's
+ *             end cuts the triangle, rounding decides
+ *   OTHER     none of these (for instance our test accepts P: the traversal
+ *             lost it): unexplained
+ * An agreeing answer is SAME (exact_t and t_bound are not counted). */
+bool rt_embree_occluded(const rt_embree *e, const rt_ray *ray);
+rt_embree_cause rt_embree_classify_occlusion(const rt_mesh *mesh, const rt_ray *ray, const rt_hit *ours,
+                                             bool embree_occluded, const rt_hit *ref);
+/* rtcOccluded1 for ray, rtcIntersect1 too when the answers differ, the
+ * classification added to the tally; returns the cause. */
+rt_embree_cause rt_embree_tally_add_occlusion(rt_embree_tally *t, const rt_embree *e, const rt_mesh *mesh,
+                                              const rt_ray *ray, const rt_hit *ours);
 
 /* Adds one ray's comparison to the tally; returns its cause. */
 rt_embree_cause rt_embree_tally_add(rt_embree_tally *t, const rt_mesh *mesh, const rt_ray *ray, const rt_hit *ours,

@@ -6,6 +6,7 @@
 
 #include "tracer/bounce.h"
 #include "tracer/camera.h"
+#include "tracer/occlusion.h"
 #include "tracer/scene_error.h"
 
 bool rt_ray_set_primary(const rt_view *view, uint32_t width, uint32_t height, rt_ray_set *out, char *err,
@@ -72,6 +73,33 @@ bool rt_ray_set_diffuse(const rt_mesh *mesh, const rt_bvh_image *img, const rt_t
         src = out->rays;
         from_primary = false;
         gen_begin = next_begin, gen_end = out->n;
+    }
+    return true;
+}
+
+bool rt_ray_set_occlusion(const rt_mesh *mesh, const rt_bvh_image *img, const rt_trv_params *p,
+                          const rt_ray_set *primary, uint64_t seed, uint32_t samples, float ao_tmax, rt_ray_set *out,
+                          char *err, size_t errlen)
+{
+    memset(out, 0, sizeof *out);
+    const size_t cap = (size_t)primary->n * samples;
+    out->rays = malloc((cap ? cap : 1) * sizeof *out->rays);
+    if (!out->rays) {
+        rt_scene_errorf(err, errlen, "ray set: out of memory for %zu occlusion rays", cap);
+        return false;
+    }
+    for (uint32_t i = 0; i < primary->n; i++) {
+        const rt_ray *r = &primary->rays[i];
+        rt_hit h;
+        if (!rt_trace_ray(img, p, r, &h, NULL, NULL, NULL)) {
+            rt_scene_errorf(err, errlen, "ray set: stack overflow (depth %d) tracing the ray of pixel %u",
+                            p->stack_depth, r->pixel);
+            rt_ray_set_free(out);
+            return false;
+        }
+        for (uint32_t k = 0; k < samples; k++)
+            if (rt_ao_ray(mesh, r, &h, seed, k, ao_tmax, &out->rays[out->n]))
+                out->n++;
     }
     return true;
 }

@@ -1,5 +1,6 @@
 /* ray_set.h — batches of rays for tests, benchmarks and the Embree check:
- * a view's primary rays and the diffuse bounce rays that follow them.
+ * a view's primary rays and the diffuse bounce rays or the occlusion rays
+ * that follow them.
  *
  * Contract: primary rays in pixel order (row-major, top row first);
  * diffuse rays are generated generation by generation (all first bounces in
@@ -39,6 +40,13 @@ bool rt_ray_set_primary(const rt_view *view, uint32_t width, uint32_t height, rt
 bool rt_ray_set_diffuse(const rt_mesh *mesh, const rt_bvh_image *img, const rt_trv_params *p,
                         const rt_ray_set *primary, uint64_t seed, uint32_t max_bounces, rt_ray_set *out, char *err,
                         size_t errlen);
+
+/* The occlusion rays (occlusion.h) of the primary rays' hits, traced with
+ * rt_trace_ray(img, p): for each primary ray in order, its AO rays 0..samples-1
+ * with tmax = ao_tmax. False on a stack overflow or out of memory. */
+bool rt_ray_set_occlusion(const rt_mesh *mesh, const rt_bvh_image *img, const rt_trv_params *p,
+                          const rt_ray_set *primary, uint64_t seed, uint32_t samples, float ao_tmax, rt_ray_set *out,
+                          char *err, size_t errlen);
 
 void rt_ray_set_free(rt_ray_set *s);
 

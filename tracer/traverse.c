@@ -52,6 +52,7 @@ static inline __attribute__((always_inline)) bool trace(const rt_bvh_image *img,
     rt_ray_prep rp;
     rt_ray_prepare(org, dir, &rp);
     const float tmin = ray->tmin;
+    const bool any_hit = ray->occlusion != 0;
     float closest = ray->tmax;
     uint32_t prim = RT_NO_HIT;
     float hu = 0.0f, hv = 0.0f;
@@ -83,9 +84,10 @@ static inline __attribute__((always_inline)) bool trace(const rt_bvh_image *img,
                 if (!rt_slab_test(&rp, lo, hi, tmin, closest, &tn))
                     continue;
                 memcpy(&cref, slot + 24, 4);
-                /* insertion keeps slot order among equal tnear: stable sort */
+                /* insertion keeps slot order among equal tnear: stable sort;
+                 * occlusion rays bypass the sort and keep slot order */
                 int i = nh++;
-                while (i > 0 && tn < hits[i - 1].tnear) {
+                while (!any_hit && i > 0 && tn < hits[i - 1].tnear) {
                     hits[i] = hits[i - 1];
                     i--;
                 }
@@ -142,6 +144,8 @@ static inline __attribute__((always_inline)) bool trace(const rt_bvh_image *img,
                     closest = t, prim = tri.prim, hu = u, hv = v;
                 if (fn)
                     emit(fn, user, RT_EV_TRI, ref + i, h ? 1u : 0u, closest);
+                if (h && any_hit)
+                    goto done;   /* occlusion ray: the first hit answers it */
             }
         }
         /* POP */

@@ -19,6 +19,16 @@
  *     (params.distance_cull, on for N > 2 by default, paper 3.1) an entry whose
  *     tnear > closest is discarded (CULL) and POP repeats; otherwise the entry
  *     is the next target (LEAF or VISIT).
+ * Occlusion rays (ray->occlusion, any-hit; the paper's sec. 3.1: "occlusion
+ * rays may bypass the sort"): the same algorithm with two changes, which the
+ * hardware model makes too (docs/accel.md "Occlusion rays"):
+ *   VISIT: no sorting network: the hit children are taken in slot order
+ *     (the lowest hit slot is the next target, the others are PUSHed highest
+ *     slot first, so the next lowest is on top);
+ *   LEAF: the first triangle that hits ends the ray: its TRI (b = 1), then
+ *     DONE with that primitive and distance; the rest of the leaf and the
+ *     stack are dropped.
+ *   closest stays tmax until that hit, so the distance stack never culls.
  * Stack depth is bounded (default 64, the paper's); an overflow is an error
  * for the ray ("stack too small for the scene"), never silent: rt_trace_ray
  * returns false and the event stream ends without DONE.

@@ -7,8 +7,8 @@
 #include "kernel/sim_internal.h"
 
 static const ks_desc_item fifo_items[] = {
-    {KS_DESC_STAT, "writes", "entries", "", "", "entries written (fifo.<name>.writes)"},
-    {KS_DESC_STAT, "reads", "entries", "", "", "entries read (fifo.<name>.reads)"},
+    {KS_DESC_STAT, "writes", "entries", "", "", "entries written to the FIFO"},
+    {KS_DESC_STAT, "reads", "entries", "", "", "entries read from the FIFO"},
     {KS_DESC_PART, "ram", "SRAM", "", "",
      "a 1R1W RAM of capacity x record width; writes and reads each access it once"},
     {KS_DESC_END, 0, 0, 0, 0, 0}};

@@ -27,6 +27,8 @@ typedef struct stat_entry {
     ks_formula_fn fn;
     void *user;
     char *num, *den;
+    const ks_module_desc *decl_m;   /* declared registration: the table and */
+    const ks_desc_item *decl_item;  /* its item, else NULL */
 } stat_entry;
 
 struct ks_stats {
@@ -253,6 +255,146 @@ int ks_stat_ratio(ks_stats *reg, const char *name, const char *unit, const char 
     e->num = xstrdup(numerator);
     e->den = xstrdup(denominator);
     return 0;
+}
+
+/* '#' matches one or more digits, '*' one or more of [a-z0-9_]; the rest
+ * literally. Backtracking on '*' keeps "energy.*_dynamic_mj" exact. */
+static bool decl_match(const char *pat, const char *s)
+{
+    for (;;) {
+        if (*pat == '#') {
+            if (!(*s >= '0' && *s <= '9'))
+                return false;
+            while (*s >= '0' && *s <= '9')
+                s++;
+            pat++;
+        } else if (*pat == '*') {
+            const char *t = s;
+            while ((*t >= 'a' && *t <= 'z') || (*t >= '0' && *t <= '9') || *t == '_') {
+                t++;
+                if (decl_match(pat + 1, t))
+                    return true;
+            }
+            return false;
+        } else if (!*pat) {
+            return !*s;
+        } else if (*pat++ != *s++) {
+            return false;
+        }
+    }
+}
+
+const ks_desc_item *ks_desc_stat_match(const ks_module_desc *m, const char *name)
+{
+    for (const ks_desc_item *it = m->items; it && it->kind != KS_DESC_END; it++)
+        if (it->kind == KS_DESC_STAT && it->name && decl_match(it->name, name))
+            return it;
+    return NULL;
+}
+
+/* The item of a declared name, and the full name; NULL with the error set. */
+static const ks_desc_item *decl_begin(ks_stats *reg, const ks_module_desc *m, const char *scope, const char *name,
+                                      char *full, size_t cap)
+{
+    const ks_desc_item *it = m && name ? ks_desc_stat_match(m, name) : NULL;
+    if (!it) {
+        set_error(reg, "statistic '%s%s%s' is not declared in the description of module %s", scope ? scope : "",
+                  scope ? "." : "", name ? name : "?", m && m->name ? m->name : "?");
+        return NULL;
+    }
+    int n = scope && *scope ? snprintf(full, cap, "%s.%s", scope, name) : snprintf(full, cap, "%s", name);
+    if (n < 0 || (size_t)n >= cap) {
+        set_error(reg, "statistic '%s.%s': name longer than %zu characters", scope, name, cap - 1);
+        return NULL;
+    }
+    return it;
+}
+
+/* The item's description for this name: a '#' or '*' in it stands for what
+ * the same wildcard of a one-wildcard name matched ("requests granted to
+ * input #", "energy of the * unit(s)"). */
+static const char *decl_desc(const ks_desc_item *it, const char *name, char *buf, size_t cap)
+{
+    const char *w = strpbrk(it->name, "#*");
+    const char *dw = w ? strchr(it->desc, *w) : NULL;
+    if (!w || !dw || strpbrk(w + 1, "#*"))
+        return it->desc;
+    size_t pre = (size_t)(w - it->name), suf = strlen(w + 1), n = strlen(name);
+    if (n < pre + suf)
+        return it->desc;
+    snprintf(buf, cap, "%.*s%.*s%s", (int)(dw - it->desc), it->desc, (int)(n - pre - suf), name + pre, dw + 1);
+    return buf;
+}
+
+static int decl_end(ks_stats *reg, const ks_module_desc *m, const ks_desc_item *it, const char *full, int rc)
+{
+    if (rc)
+        return rc;
+    stat_entry *e = find(reg, full);
+    e->decl_m = m;
+    e->decl_item = it;
+    return 0;
+}
+
+int ks_stat_decl_counter(ks_stats *reg, const ks_module_desc *m, const char *scope, const char *name,
+                         const uint64_t *value)
+{
+    char full[256];
+    const ks_desc_item *it = decl_begin(reg, m, scope, name, full, sizeof full);
+    char desc[256];
+    return it ? decl_end(reg, m, it, full, ks_stat_counter_ref(reg, full, it->type, decl_desc(it, name, desc, sizeof desc), value)) : -1;
+}
+
+int ks_stat_decl_real(ks_stats *reg, const ks_module_desc *m, const char *scope, const char *name,
+                      const double *value)
+{
+    char full[256];
+    const ks_desc_item *it = decl_begin(reg, m, scope, name, full, sizeof full);
+    char desc[256];
+    return it ? decl_end(reg, m, it, full, ks_stat_real_ref(reg, full, it->type, decl_desc(it, name, desc, sizeof desc), value)) : -1;
+}
+
+int ks_stat_decl_formula(ks_stats *reg, const ks_module_desc *m, const char *scope, const char *name,
+                         ks_formula_fn fn, void *user)
+{
+    char full[256];
+    const ks_desc_item *it = decl_begin(reg, m, scope, name, full, sizeof full);
+    char desc[256];
+    return it ? decl_end(reg, m, it, full, ks_stat_formula(reg, full, it->type, decl_desc(it, name, desc, sizeof desc), fn, user)) : -1;
+}
+
+ks_histogram *ks_stat_decl_histogram(ks_stats *reg, const ks_module_desc *m, const char *scope, const char *name,
+                                     double lo, double hi, unsigned bins)
+{
+    char full[256];
+    const ks_desc_item *it = decl_begin(reg, m, scope, name, full, sizeof full);
+    char desc[256];
+    ks_histogram *h = it ? ks_stat_histogram(reg, full, it->type, decl_desc(it, name, desc, sizeof desc), lo, hi, bins)
+                         : NULL;
+    if (h)
+        decl_end(reg, m, it, full, 0);
+    return h;
+}
+
+int ks_stat_decl_ratio(ks_stats *reg, const ks_module_desc *m, const char *scope, const char *name,
+                       const char *numerator, const char *denominator)
+{
+    char full[256], num[256], den[256];
+    const ks_desc_item *it = decl_begin(reg, m, scope, name, full, sizeof full);
+    if (!it)
+        return -1;
+    snprintf(num, sizeof num, "%s%s%s", scope && *scope ? scope : "", scope && *scope ? "." : "", numerator);
+    snprintf(den, sizeof den, "%s%s%s", scope && *scope ? scope : "", scope && *scope ? "." : "", denominator);
+    char desc[256];
+    return decl_end(reg, m, it, full, ks_stat_ratio(reg, full, it->type, decl_desc(it, name, desc, sizeof desc), num, den));
+}
+
+bool ks_stats_registered_from(const ks_stats *reg, const ks_module_desc *m, const ks_desc_item *item)
+{
+    for (unsigned i = 0; i < reg->n; i++)
+        if (reg->e[i]->decl_m == m && reg->e[i]->decl_item == item)
+            return true;
+    return false;
 }
 
 void ks_histogram_add(ks_histogram *h, double v)

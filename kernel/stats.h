@@ -16,12 +16,26 @@
  *    and ks_stats_write_summary (aligned human-readable table). Numbers are
  *    printed deterministically (integers exact, reals with %.17g or shorter
  *    round-trip form; non-finite reals as null in JSON).
+ *  - Declared registration (ks_stat_decl_*): a module registers a statistic
+ *    by its name in the module's description table (kernel/module_desc.h):
+ *    the unit and description come from the table's KS_DESC_STAT item, the
+ *    full name is "scope.name" (scope may be NULL: the name alone), and a
+ *    name the table does not declare is an error (-1, message naming the
+ *    module). In a declared name '#' matches one or more digits and '*' one
+ *    or more of [a-z0-9_] ("stack_bank#_reads", "energy.*_mj"); the first
+ *    matching item wins; a '#' in the item's description stands for the
+ *    digits its name's '#' matched. ks_stats_registered_from() tells whether an item of
+ *    a table was registered, so a test can find declared statistics that no
+ *    unit registers.
  * The registry is independent of any sim. */
 #ifndef KS_STATS_H
 #define KS_STATS_H
 
+#include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
+
+#include "kernel/module_desc.h"
 
 typedef struct ks_stats ks_stats;
 typedef struct ks_histogram ks_histogram;
@@ -54,6 +68,23 @@ int ks_stat_ratio(ks_stats *reg, const char *name, const char *unit, const char 
 void ks_histogram_add(ks_histogram *h, double value);
 uint64_t ks_histogram_count(const ks_histogram *h);
 double ks_histogram_mean(const ks_histogram *h);
+
+/* Declared registration (see the contract above). */
+int ks_stat_decl_counter(ks_stats *reg, const ks_module_desc *m, const char *scope, const char *name,
+                         const uint64_t *value);
+int ks_stat_decl_real(ks_stats *reg, const ks_module_desc *m, const char *scope, const char *name,
+                      const double *value);
+int ks_stat_decl_formula(ks_stats *reg, const ks_module_desc *m, const char *scope, const char *name,
+                         ks_formula_fn fn, void *user);
+ks_histogram *ks_stat_decl_histogram(ks_stats *reg, const ks_module_desc *m, const char *scope, const char *name,
+                                     double lo, double hi, unsigned bins);
+/* numerator and denominator are names within the same scope */
+int ks_stat_decl_ratio(ks_stats *reg, const ks_module_desc *m, const char *scope, const char *name,
+                       const char *numerator, const char *denominator);
+/* The KS_DESC_STAT item of m that name matches ('#', '*' as above), or NULL. */
+const ks_desc_item *ks_desc_stat_match(const ks_module_desc *m, const char *name);
+/* True when some statistic was registered from item `item` of m. */
+bool ks_stats_registered_from(const ks_stats *reg, const ks_module_desc *m, const ks_desc_item *item);
 
 /* Value of a statistic by name (histograms: their mean); 0 when found. */
 int ks_stats_value(const ks_stats *reg, const char *name, double *out);

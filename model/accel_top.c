@@ -1,6 +1,7 @@
 /* accel_top.c — the top-level assembly (see accel_top.h). */
 #include "model/accel_top.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -64,12 +65,26 @@ static double util_formula(const ks_stats *reg, void *user)
     return cyc > 0 ? (double)*busy / cyc : 0.0;
 }
 
-static void register_util(ks_stats *st, const char *unit, const uint64_t *busy)
+static int register_util(ks_stats *st, const ks_module_desc *d, const char *unit, const uint64_t *busy)
 {
-    char nm[96];
-    snprintf(nm, sizeof nm, "%s.utilization", unit);
-    ks_stat_formula(st, nm, "fraction", "busy cycles / frame cycles", util_formula, (void *)busy);
+    return ks_stat_decl_formula(st, d, unit, "utilization", util_formula, (void *)busy);
 }
+
+/* The frame's figures, registered by the top level itself. */
+static const ks_desc_item accel_items[] = {
+    {KS_DESC_STAT, "cycles", "cycles", "", "",
+     "accelerator cycles of the frame (to the last ray's completion, or to where a failed run stopped)"},
+    {KS_DESC_STAT, "run_failed", "flag", "", "",
+     "1 when the run stopped on a deadlock, a livelock or stack overflows: the statistics then cover the cycles "
+     "simulated until it stopped"},
+    {KS_DESC_STAT, "rays", "rays", "", "", "rays traced (primary and bounce)"},
+    {KS_DESC_STAT, "mrps", "Mrays/s", "", "", "million rays per second at the machine clock"},
+    {KS_DESC_STAT, "dram_bytes", "bytes", "", "", "bytes transferred from/to main memory"},
+    {KS_DESC_STAT, "dram_bandwidth_gbs", "GB/s", "", "", "mean main memory bandwidth over the frame"},
+    {KS_DESC_STAT, "rays_in_flight_mean", "rays", "", "", "time-averaged rays in flight"},
+    {KS_DESC_END, 0, 0, 0, 0, 0},
+};
+const ks_module_desc accel_top_desc = {"accel", "the frame's figures (top level)", accel_items};
 
 static double fifo_writes_fn(const ks_stats *reg, void *user)
 {
@@ -91,10 +106,9 @@ static int register_fifo_stats(accel_top *t)
     for (uint32_t i = 0; i < ks_sim_fifo_count(t->sim); i++) {
         ks_fifo *f = ks_sim_fifo_at(t->sim, i);
         char nm[128];
-        snprintf(nm, sizeof nm, "fifo.%s.writes", ks_fifo_name(f));
-        rc |= ks_stat_formula(t->stats, nm, "entries", "entries written to the FIFO", fifo_writes_fn, f);
-        snprintf(nm, sizeof nm, "fifo.%s.reads", ks_fifo_name(f));
-        rc |= ks_stat_formula(t->stats, nm, "entries", "entries read from the FIFO", fifo_reads_fn, f);
+        snprintf(nm, sizeof nm, "fifo.%s", ks_fifo_name(f));
+        rc |= ks_stat_decl_formula(t->stats, &ks_fifo_module_desc, nm, "writes", fifo_writes_fn, f);
+        rc |= ks_stat_decl_formula(t->stats, &ks_fifo_module_desc, nm, "reads", fifo_reads_fn, f);
     }
     return rc;
 }
@@ -324,7 +338,8 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
         accel_top_destroy(t);
         return NULL;
     }
-    t->p.trv.stages_fetch = memsys_node_l1_latency(t->mem);
+    /* trv.stages_fetch is the node L1 hit latency (accel_params_get) */
+    assert(t->p.trv.stages_fetch == memsys_node_l1_latency(t->mem));
     t->p.ist.latency += memsys_prim_latency(t->mem);
     /* units, in the order they are stepped each cycle: consumers of a FIFO
      * see its items at the ready time whatever the order (latency >= 1) */
@@ -380,26 +395,28 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
             ks_clock_set_exhaustive(dram_port_clock(memsys_dram_port(t->mem)), 1);
     }
 
-    /* statistics: the frame's figures first, then per unit */
-    ks_stat_counter_ref(t->stats, "cycles", "cycles", "accelerator cycles of the frame (to the last ray's completion, or to where a failed run stopped)",
-                        &t->stat_cycles);
-    ks_stat_counter_ref(t->stats, "run_failed", "flag",
-                        "1 when the run stopped on a deadlock, a livelock or stack overflows: the statistics then cover "
-                        "the cycles simulated until it stopped",
-                        &t->stat_failed);
-    ks_stat_counter_ref(t->stats, "rays", "rays", "rays traced (primary and bounce)", &t->stat_rays);
-    ks_stat_real_ref(t->stats, "mrps", "Mrays/s", "million rays per second at the machine clock", &t->stat_mrps);
-    ks_stat_counter_ref(t->stats, "dram_bytes", "bytes", "bytes transferred from/to main memory", &t->stat_dram_bytes);
-    ks_stat_real_ref(t->stats, "dram_bandwidth_gbs", "GB/s", "mean main memory bandwidth over the frame",
-                     &t->stat_dram_gbs);
-    ks_stat_real_ref(t->stats, "rays_in_flight_mean", "rays", "time-averaged rays in flight", &t->stat_in_flight);
-    sched_register(&t->sched, "sched", t->stats, t->vcd);
+    /* statistics: the frame's figures first, then per unit, each from its
+     * unit's description (an undeclared name fails here) */
+    const ks_module_desc *top = &accel_top_desc;
+    int rc = 0;
+    rc |= ks_stat_decl_counter(t->stats, top, NULL, "cycles", &t->stat_cycles);
+    rc |= ks_stat_decl_counter(t->stats, top, NULL, "run_failed", &t->stat_failed);
+    rc |= ks_stat_decl_counter(t->stats, top, NULL, "rays", &t->stat_rays);
+    rc |= ks_stat_decl_real(t->stats, top, NULL, "mrps", &t->stat_mrps);
+    rc |= ks_stat_decl_counter(t->stats, top, NULL, "dram_bytes", &t->stat_dram_bytes);
+    rc |= ks_stat_decl_real(t->stats, top, NULL, "dram_bandwidth_gbs", &t->stat_dram_gbs);
+    rc |= ks_stat_decl_real(t->stats, top, NULL, "rays_in_flight_mean", &t->stat_in_flight);
+    rc |= sched_register(&t->sched, "sched", t->stats, t->vcd);
     for (uint32_t i = 0; i < ntrv; i++) {
-        trv_register(&t->trv[i], t->names[i], t->stats, t->vcd);
-        register_util(t->stats, t->names[i], &t->trv[i].busy_cycles);
+        rc |= trv_register(&t->trv[i], t->names[i], t->stats, t->vcd);
+        rc |= register_util(t->stats, &trv_module_desc, t->names[i], &t->trv[i].busy_cycles);
     }
-    ist_register(&t->ist, "ist", t->stats, t->vcd);
-    register_util(t->stats, "ist", &t->ist.busy_cycles);
+    rc |= ist_register(&t->ist, "ist", t->stats, t->vcd);
+    rc |= register_util(t->stats, &ist_module_desc, "ist", &t->ist.busy_cycles);
+    if (rc) {
+        snprintf(err, errlen, "statistics: %s", ks_stats_error(t->stats));
+        goto fail;
+    }
     /* energy and area: a part without a figure fails here, at start-up */
     if (register_fifo_stats(t)) {
         snprintf(err, errlen, "FIFO statistics: %s", ks_stats_error(t->stats));
@@ -667,7 +684,7 @@ int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen)
 }
 
 static const ks_module_desc *const all_descs[] = {&trv_module_desc, &ist_module_desc, &sched_module_desc,
-                                                  &ks_fifo_module_desc};
+                                                  &ks_fifo_module_desc, &accel_top_desc, &energy_desc};
 
 const ks_module_desc *accel_module_desc(const char *name)
 {

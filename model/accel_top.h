@@ -66,6 +66,9 @@ void accel_top_print_summary(accel_top *t, FILE *out);
  * Returns 0, or -1 with a message. */
 int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen);
 
+/* The top level's own statistics (cycles, rays, mrps, ...). */
+extern const ks_module_desc accel_top_desc;
+
 /* Module description tables of every unit (for --help-module NAME). */
 const ks_module_desc *accel_module_desc(const char *name);
 void accel_module_list(FILE *out);

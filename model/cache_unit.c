@@ -235,20 +235,12 @@ int cache_unit_register_stats(cache_unit *u, ks_stats *reg, const char *prefix)
         {"fills", &s->fills},           {"evictions", &s->evictions},
         {"bytes_filled", &s->bytes_filled},
     };
-    char name[160], num[160], den[160];
-    for (size_t i = 0; i < sizeof f / sizeof f[0]; i++) {
-        const ks_desc_item *d = ks_module_desc_find(&cache_unit_desc, KS_DESC_STAT, f[i].name);
-        if (ks_stat_counter_ref_in(reg, prefix, f[i].name, d ? d->type : "", d ? d->desc : "", f[i].v))
+    for (size_t i = 0; i < sizeof f / sizeof f[0]; i++)
+        if (ks_stat_decl_counter(reg, &cache_unit_desc, prefix, f[i].name, f[i].v))
             return -1;
-    }
-    snprintf(name, sizeof name, "%s.hit_rate", prefix);
-    snprintf(num, sizeof num, "%s.hits", prefix);
-    snprintf(den, sizeof den, "%s.accesses", prefix);
-    if (ks_stat_ratio(reg, name, "ratio", "hits / accesses (every retry of a looping ray is an access)", num, den))
+    if (ks_stat_decl_ratio(reg, &cache_unit_desc, prefix, "hit_rate", "hits", "accesses"))
         return -1;
-    snprintf(name, sizeof name, "%s.line_hit_rate", prefix);
-    return ks_stat_formula(reg, name, "ratio", "hits / (hits + miss_lines): each missing line counted once",
-                           line_hit_rate, (void *)s);
+    return ks_stat_decl_formula(reg, &cache_unit_desc, prefix, "line_hit_rate", line_hit_rate, (void *)s);
 }
 
 int cache_unit_busy(const cache_unit *u)

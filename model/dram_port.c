@@ -369,32 +369,21 @@ static const ks_desc_item port_items[] = {
 const ks_module_desc dram_port_desc = {"dram", "LPDDR3 memory: command-level controller behind timed FIFOs",
                                        port_items};
 
-static const char *item_desc(const char *name, const char **unit)
-{
-    const ks_desc_item *d = ks_module_desc_find(&dram_port_desc, KS_DESC_STAT, name);
-    *unit = d ? d->type : "";
-    return d ? d->desc : "";
-}
 
 static int reg_counter(dram_port *p, ks_stats *st, const char *name, const uint64_t *v)
 {
-    const char *unit, *desc = item_desc(name, &unit);
-    return ks_stat_counter_ref_in(st, p->name, name, unit, desc, v);
+    return ks_stat_decl_counter(st, &dram_port_desc, p->name, name, v);
 }
 
 static int reg_formula(dram_port *p, ks_stats *st, const char *name, int which)
 {
-    char full[128];
-    const char *unit, *desc = item_desc(name, &unit);
-    snprintf(full, sizeof full, "%s.%s", p->name, name);
     p->refs[which] = (port_stat_ref){p, which};
-    return ks_stat_formula(st, full, unit, desc, port_stat, &p->refs[which]);
+    return ks_stat_decl_formula(st, &dram_port_desc, p->name, name, port_stat, &p->refs[which]);
 }
 
 static int register_stats(dram_port *p, ks_stats *st, char *err, size_t errlen)
 {
-    char num[128], den[128], full[128];
-    const char *unit, *desc = item_desc("read_latency_mean", &unit);
+    char full[128];
     /* refuse before registering anything: a half-registered module would leave the
      * registry pointing into a freed struct */
     for (const ks_desc_item *d = dram_port_desc.items; d->kind != KS_DESC_END; d++) {
@@ -413,10 +402,7 @@ static int register_stats(dram_port *p, ks_stats *st, char *err, size_t errlen)
     rc |= reg_counter(p, st, "bytes", &p->n_bytes);
     rc |= reg_counter(p, st, "reads_done", &p->n_read_done);
     rc |= reg_counter(p, st, "read_latency_sum", &p->read_lat_sum);
-    snprintf(num, sizeof num, "%s.read_latency_sum", p->name);
-    snprintf(den, sizeof den, "%s.reads_done", p->name);
-    snprintf(full, sizeof full, "%s.read_latency_mean", p->name);
-    rc |= ks_stat_ratio(st, full, unit, desc, num, den);
+    rc |= ks_stat_decl_ratio(st, &dram_port_desc, p->name, "read_latency_mean", "read_latency_sum", "reads_done");
     rc |= reg_counter(p, st, "writes_done", &p->n_write_done);
     rc |= reg_counter(p, st, "stall_cycles", &p->stall_cycles);
     rc |= reg_counter(p, st, "resp_blocked_cycles", &p->blocked_cycles);

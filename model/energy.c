@@ -216,33 +216,45 @@ void energy_compute(energy_model *em, const energy_activity *a, double mrps)
     r->mrps_per_mm2 = r->total_area_mm2 > 0 ? mrps / r->total_area_mm2 : 0.0;
 }
 
+static const ks_desc_item energy_items[] = {
+    {KS_DESC_STAT, "energy_mj", "mJ", "", "", "energy of the frame: all units, dynamic and static"},
+    {KS_DESC_STAT, "power_mw", "mW", "", "", "average power over the frame"},
+    {KS_DESC_STAT, "area_mm2", "mm2", "", "", "area of the FPUs and memory blocks (caches, stacks, FIFOs)"},
+    {KS_DESC_STAT, "mrps_per_mm2", "MRPS/mm2", "", "", "performance per area"},
+    /* per unit (trv, ist, stack, cache, fifo, dram); the specific names first */
+    {KS_DESC_STAT, "energy.*_dynamic_mj", "mJ", "", "",
+     "dynamic energy of the * unit(s): per FLOP, access or DRAM command"},
+    {KS_DESC_STAT, "energy.*_static_mj", "mJ", "", "",
+     "static energy of the * unit(s): leakage (DRAM: background) over the frame"},
+    {KS_DESC_STAT, "energy.*_mj", "mJ", "", "", "energy of the frame in the * unit(s), dynamic and static"},
+    {KS_DESC_STAT, "power.*_mw", "mW", "", "", "average power of the * unit(s)"},
+    {KS_DESC_STAT, "area.*_mm2", "mm2", "", "", "area of the * unit(s): FPUs and memory blocks"},
+    {KS_DESC_END, 0, 0, 0, 0, 0},
+};
+const ks_module_desc energy_desc = {"energy", "energy, power and area from activity (docs/energy.md)", energy_items};
+
 int energy_register_stats(energy_model *em, ks_stats *st, char *err, size_t errlen)
 {
     energy_result *r = &em->r;
+    const ks_module_desc *d = &energy_desc;
     int rc = 0;
-    rc |= ks_stat_real_ref(st, "energy_mj", "mJ", "energy of the frame: all units, dynamic and static", &r->total_energy_mj);
-    rc |= ks_stat_real_ref(st, "power_mw", "mW", "average power over the frame", &r->total_power_mw);
-    rc |= ks_stat_real_ref(st, "area_mm2", "mm2", "area of the FPUs and memory blocks (caches, stacks, FIFOs)",
-                           &r->total_area_mm2);
-    rc |= ks_stat_real_ref(st, "mrps_per_mm2", "MRPS/mm2", "performance per area", &r->mrps_per_mm2);
+    rc |= ks_stat_decl_real(st, d, NULL, "energy_mj", &r->total_energy_mj);
+    rc |= ks_stat_decl_real(st, d, NULL, "power_mw", &r->total_power_mw);
+    rc |= ks_stat_decl_real(st, d, NULL, "area_mm2", &r->total_area_mm2);
+    rc |= ks_stat_decl_real(st, d, NULL, "mrps_per_mm2", &r->mrps_per_mm2);
     for (int u = 0; u < EU_COUNT; u++) {
         const char *n = unit_names[u];
-        char name[64], desc[128];
+        char name[64];
         snprintf(name, sizeof name, "energy.%s_mj", n);
-        snprintf(desc, sizeof desc, "energy of the frame in the %s unit(s), dynamic and static", n);
-        rc |= ks_stat_real_ref(st, name, "mJ", desc, &r->energy_mj[u]);
+        rc |= ks_stat_decl_real(st, d, NULL, name, &r->energy_mj[u]);
         snprintf(name, sizeof name, "energy.%s_dynamic_mj", n);
-        snprintf(desc, sizeof desc, "dynamic energy of the %s unit(s): per FLOP, access or DRAM command", n);
-        rc |= ks_stat_real_ref(st, name, "mJ", desc, &r->dynamic_mj[u]);
+        rc |= ks_stat_decl_real(st, d, NULL, name, &r->dynamic_mj[u]);
         snprintf(name, sizeof name, "energy.%s_static_mj", n);
-        snprintf(desc, sizeof desc, "static energy of the %s unit(s): leakage (DRAM: background) over the frame", n);
-        rc |= ks_stat_real_ref(st, name, "mJ", desc, &r->static_mj[u]);
+        rc |= ks_stat_decl_real(st, d, NULL, name, &r->static_mj[u]);
         snprintf(name, sizeof name, "power.%s_mw", n);
-        snprintf(desc, sizeof desc, "average power of the %s unit(s)", n);
-        rc |= ks_stat_real_ref(st, name, "mW", desc, &r->power_mw[u]);
+        rc |= ks_stat_decl_real(st, d, NULL, name, &r->power_mw[u]);
         snprintf(name, sizeof name, "area.%s_mm2", n);
-        snprintf(desc, sizeof desc, "area of the %s unit(s): FPUs and memory blocks", n);
-        rc |= ks_stat_real_ref(st, name, "mm2", desc, &r->area_mm2[u]);
+        rc |= ks_stat_decl_real(st, d, NULL, name, &r->area_mm2[u]);
     }
     if (rc)
         snprintf(err, errlen, "energy: cannot register statistics: %s", ks_stats_error(st));

@@ -128,18 +128,17 @@ void fixed_mem_destroy(fixed_mem *m)
 int fixed_mem_register_stats(fixed_mem *m, ks_stats *reg, const char *prefix)
 {
     struct {
-        const char *n, *unit, *desc;
+        const char *n;
         const uint64_t *v;
     } f[] = {
-        {"requests", "requests", "requests served", &m->requests},
-        {"bytes", "bytes", "bytes transferred", &m->bytes},
-        {"latency_sum", "cycles", "sum over requests of accept-to-response cycles", &m->latency_sum},
-        {"bus_busy_cycles", "cycles", "cycles the data bus was transferring", &m->bus_busy_cycles},
+        {"requests", &m->requests},
+        {"bytes", &m->bytes},
+        {"latency_sum", &m->latency_sum},
+        {"bus_busy_cycles", &m->bus_busy_cycles},
     };
-    for (size_t i = 0; i < sizeof f / sizeof f[0]; i++) {
-        if (ks_stat_counter_ref_in(reg, prefix, f[i].n, f[i].unit, f[i].desc, f[i].v))
+    for (size_t i = 0; i < sizeof f / sizeof f[0]; i++)
+        if (ks_stat_decl_counter(reg, &fixed_mem_desc, prefix, f[i].n, f[i].v))
             return -1;
-    }
     return 0;
 }
 

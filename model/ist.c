@@ -17,8 +17,15 @@ static const ks_desc_item ist_items[] = {
     {KS_DESC_STAT, "busy_cycles", "cycles", "", "", "cycles a triangle test issued"},
     {KS_DESC_STAT, "tests", "tests", "", "", "triangle tests (committed)"},
     {KS_DESC_STAT, "hits", "tests", "", "", "tests that found an intersection in range"},
+    {KS_DESC_STAT, "closer_hits", "tests", "", "", "hits that became the ray's closest"},
+    {KS_DESC_STAT, "leaves", "leaves", "", "", "leaves finished"},
     {KS_DESC_STAT, "loops_miss", "tests", "", "", "tests invalidated by a primitive cache miss"},
-    {KS_DESC_STAT, "flops", "FLOP", "", "", "FLOPs of committed and invalidated tests"},
+    {KS_DESC_STAT, "loops_blocked", "tests", "", "", "tests invalidated because the primitive cache was blocked"},
+    {KS_DESC_STAT, "exit_stall_cycles", "cycles", "", "", "cycles the exit stage waited for a full output FIFO"},
+    {KS_DESC_STAT, "issue_stall_cycles", "cycles", "", "", "cycles issue waited for a full pipe"},
+    {KS_DESC_STAT, "bank_stall_cycles", "cycles", "", "", "cycles issue waited for a primitive read spanning one bank twice"},
+    {KS_DESC_STAT, "flops", "FLOP", "", "", "FLOPs of issued tests (division = 11, paper sec. 3.2)"},
+    {KS_DESC_STAT, "utilization", "fraction", "", "", "busy cycles / frame cycles"},
     {KS_DESC_PART, "fpu", "FPU", "", "",
      "one Wald test per cycle: ist.flops_per_test FLOP units; energy per FLOP of committed and invalidated tests"},
     {KS_DESC_END, 0, 0, 0, 0, 0}};
@@ -94,23 +101,21 @@ void ist_set_events(ist_unit *u, accel_event_fn fn, void *user)
     u->core.ev_user = user;
 }
 
-void ist_register(ist_unit *u, const char *name, ks_stats *st, ks_vcd *vcd)
+int ist_register(ist_unit *u, const char *name, ks_stats *st, ks_vcd *vcd)
 {
+    int rc = 0;
     if (st) {
-        ks_stat_counter_ref_in(st, name, "busy_cycles", "cycles", "cycles a triangle test issued", &u->busy_cycles);
-        ks_stat_counter_ref_in(st, name, "tests", "tests", "triangle tests (committed)", &u->core.st.tests);
-        ks_stat_counter_ref_in(st, name, "hits", "tests", "tests that found an intersection in range", &u->core.st.hits);
-        ks_stat_counter_ref_in(st, name, "closer_hits", "tests", "hits that became the ray's closest", &u->core.st.closer);
-        ks_stat_counter_ref_in(st, name, "leaves", "leaves", "leaves finished", &u->core.st.leaves);
-        ks_stat_counter_ref_in(st, name, "loops_miss", "tests", "tests invalidated by a primitive cache miss", &u->core.st.loops_miss);
-        ks_stat_counter_ref_in(st, name, "loops_blocked", "tests", "tests invalidated because the primitive cache was blocked",
-            &u->core.st.loops_blocked);
-        ks_stat_counter_ref_in(st, name, "exit_stall_cycles", "cycles", "cycles the exit stage waited for a full output FIFO",
-            &u->exit_stall_cycles);
-        ks_stat_counter_ref_in(st, name, "issue_stall_cycles", "cycles", "cycles issue waited for a full pipe", &u->issue_stall_cycles);
-        ks_stat_counter_ref_in(st, name, "bank_stall_cycles", "cycles", "cycles issue waited for a primitive read spanning one bank twice",
-            &u->bank_stall_cycles);
-        ks_stat_counter_ref_in(st, name, "flops", "FLOP", "FLOPs of issued tests (division = 11, paper sec. 3.2)", &u->flops);
+        rc |= ks_stat_decl_counter(st, &ist_module_desc, name, "busy_cycles", &u->busy_cycles);
+        rc |= ks_stat_decl_counter(st, &ist_module_desc, name, "tests", &u->core.st.tests);
+        rc |= ks_stat_decl_counter(st, &ist_module_desc, name, "hits", &u->core.st.hits);
+        rc |= ks_stat_decl_counter(st, &ist_module_desc, name, "closer_hits", &u->core.st.closer);
+        rc |= ks_stat_decl_counter(st, &ist_module_desc, name, "leaves", &u->core.st.leaves);
+        rc |= ks_stat_decl_counter(st, &ist_module_desc, name, "loops_miss", &u->core.st.loops_miss);
+        rc |= ks_stat_decl_counter(st, &ist_module_desc, name, "loops_blocked", &u->core.st.loops_blocked);
+        rc |= ks_stat_decl_counter(st, &ist_module_desc, name, "exit_stall_cycles", &u->exit_stall_cycles);
+        rc |= ks_stat_decl_counter(st, &ist_module_desc, name, "issue_stall_cycles", &u->issue_stall_cycles);
+        rc |= ks_stat_decl_counter(st, &ist_module_desc, name, "bank_stall_cycles", &u->bank_stall_cycles);
+        rc |= ks_stat_decl_counter(st, &ist_module_desc, name, "flops", &u->flops);
     }
     if (vcd) {
         u->vcd = true;
@@ -129,6 +134,7 @@ void ist_register(ist_unit *u, const char *name, ks_stats *st, ks_vcd *vcd)
         const pipe_stage_part parts[] = {{"test", u->p.latency + 1}};
         pipe_trace_init(&u->stage_rays, vcd, name, parts, 1);
     }
+    return rc;
 }
 
 static inline uint64_t head_cycle(const ks_fifo *f, ks_clock *clk)

@@ -57,6 +57,8 @@ bool ist_init(ist_unit *u, const char *name, const ist_params *p, const accel_im
 void ist_bind(ist_unit *u, uint32_t ntrv, ks_fifo **in, ks_fifo **out);
 void ist_set_probe(ist_unit *u, accel_probe_fn probe, void *ctx);
 void ist_set_events(ist_unit *u, accel_event_fn fn, void *user);
-void ist_register(ist_unit *u, const char *name, ks_stats *st, ks_vcd *vcd);
+/* 0, or -1 when a statistic is not declared in the unit's description
+ * (message in ks_stats_error). */
+int ist_register(ist_unit *u, const char *name, ks_stats *st, ks_vcd *vcd);
 
 #endif

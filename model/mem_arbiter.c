@@ -13,7 +13,7 @@ static const ks_desc_item items[] = {
     {KS_DESC_PORT, "req_out", "out fifo<mem_req>", "", "", "granted requests, src = src * N + i"},
     {KS_DESC_PORT, "resp_in", "in fifo<mem_resp>", "", "", "responses from the shared side"},
     {KS_DESC_STAT, "grants", "requests", "", "", "requests granted"},
-    {KS_DESC_STAT, "grants_<i>", "requests", "", "", "requests granted to input i"},
+    {KS_DESC_STAT, "grants_#", "requests", "", "", "requests granted to input #"},
     {KS_DESC_STAT, "conflict_cycles", "cycles", "", "", "cycles with more than one requester ready"},
     {KS_DESC_STAT, "responses", "responses", "", "", "responses routed back"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
@@ -140,22 +140,18 @@ void mem_arbiter_destroy(mem_arbiter *a)
 
 int mem_arbiter_register_stats(mem_arbiter *a, ks_stats *reg, const char *prefix)
 {
-    char name[160];
-    snprintf(name, sizeof name, "%s.grants", prefix);
-    if (ks_stat_counter_ref(reg, name, "requests", "requests granted", &a->grants))
+    const ks_module_desc *d = &mem_arbiter_desc;
+    if (ks_stat_decl_counter(reg, d, prefix, "grants", &a->grants))
         return -1;
     for (int i = 0; i < a->n; i++) {
-        snprintf(name, sizeof name, "%s.grants_%d", prefix, i);
-        char desc[64];
-        snprintf(desc, sizeof desc, "requests granted to input %d", i);
-        if (ks_stat_counter_ref(reg, name, "requests", desc, &a->grants_per[i]))
+        char name[32];
+        snprintf(name, sizeof name, "grants_%d", i);
+        if (ks_stat_decl_counter(reg, d, prefix, name, &a->grants_per[i]))
             return -1;
     }
-    snprintf(name, sizeof name, "%s.conflict_cycles", prefix);
-    if (ks_stat_counter_ref(reg, name, "cycles", "cycles with more than one requester ready", &a->conflict_cycles))
+    if (ks_stat_decl_counter(reg, d, prefix, "conflict_cycles", &a->conflict_cycles))
         return -1;
-    snprintf(name, sizeof name, "%s.responses", prefix);
-    return ks_stat_counter_ref(reg, name, "responses", "responses routed back", &a->responses);
+    return ks_stat_decl_counter(reg, d, prefix, "responses", &a->responses);
 }
 
 uint64_t mem_arbiter_grants(const mem_arbiter *a, int input)

@@ -139,14 +139,11 @@ void mem_dram_adapter_destroy(mem_dram_adapter *a)
 
 int mem_dram_adapter_register_stats(mem_dram_adapter *a, ks_stats *reg, const char *prefix)
 {
-    char name[160];
+    const ks_module_desc *d = &mem_dram_adapter_desc;
     int rc = 0;
-    snprintf(name, sizeof name, "%s.requests", prefix);
-    rc |= ks_stat_counter_ref(reg, name, "requests", "requests forwarded to the DRAM", &a->requests);
-    snprintf(name, sizeof name, "%s.bytes", prefix);
-    rc |= ks_stat_counter_ref(reg, name, "bytes", "bytes requested from the DRAM", &a->bytes);
-    snprintf(name, sizeof name, "%s.latency_sum", prefix);
-    rc |= ks_stat_counter_ref(reg, name, "cycles", "sum of forward-to-response accelerator cycles", &a->latency_sum);
+    rc |= ks_stat_decl_counter(reg, d, prefix, "requests", &a->requests);
+    rc |= ks_stat_decl_counter(reg, d, prefix, "bytes", &a->bytes);
+    rc |= ks_stat_decl_counter(reg, d, prefix, "latency_sum", &a->latency_sum);
     return rc;
 }
 

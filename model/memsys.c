@@ -44,6 +44,14 @@ static ks_fifo *mk_fifo(memsys *ms, ks_sim *sim, ks_clock *clk, const rtcfg *cfg
     return f;
 }
 
+/* Statistics of the memory side as a whole. */
+static const ks_desc_item totals_items[] = {
+    {KS_DESC_STAT, "node_l1.hit_rate", "ratio", "", "", "hits / accesses over all node L1s"},
+    {KS_DESC_STAT, "memory.bytes_total", "bytes", "", "", "bytes moved to/from main memory"},
+    {KS_DESC_END, 0, 0, 0, 0, 0},
+};
+const ks_module_desc memsys_totals_desc = {"memory_side", "totals of the memory hierarchy", totals_items};
+
 static double l1_hit_rate(const ks_stats *reg, void *user)
 {
     (void)reg;
@@ -172,7 +180,7 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
             snprintf(name, sizeof name, "node_l1_%d", i);
             rc |= cache_unit_register_stats(ms->l1[i], stats, name);
         }
-        rc |= ks_stat_formula(stats, "node_l1.hit_rate", "ratio", "hits / accesses over all node L1s", l1_hit_rate, ms);
+        rc |= ks_stat_decl_formula(stats, &memsys_totals_desc, NULL, "node_l1.hit_rate", l1_hit_rate, ms);
         rc |= cache_unit_register_stats(ms->l2, stats, "node_l2");
         rc |= cache_unit_register_stats(ms->prim, stats, "prim");
         rc |= mem_arbiter_register_stats(ms->l2_arb, stats, "l2_arbiter");
@@ -181,8 +189,7 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
             rc |= fixed_mem_register_stats(ms->fmem, stats, "memory");
         if (ms->adapter)
             rc |= mem_dram_adapter_register_stats(ms->adapter, stats, "memory");
-        rc |= ks_stat_formula(stats, "memory.bytes_total", "bytes", "bytes moved to/from main memory",
-                              memory_bytes_fn, ms);
+        rc |= ks_stat_decl_formula(stats, &memsys_totals_desc, NULL, "memory.bytes_total", memory_bytes_fn, ms);
         if (rc) {
             snprintf(err, errlen, "memsys: registering statistics: %s", ks_stats_error(stats));
             goto fail;
@@ -285,7 +292,7 @@ static const struct {
     {"memory", &mem_dram_adapter_desc}, {"lpddr3", &dram_port_desc},
 };
 static const ks_module_desc *const module_all[] = {&cache_unit_desc, &mem_arbiter_desc, &fixed_mem_desc,
-                                                   &mem_dram_adapter_desc, &dram_port_desc};
+                                                   &mem_dram_adapter_desc, &dram_port_desc, &memsys_totals_desc};
 
 const ks_module_desc *memsys_module_desc(const char *name)
 {

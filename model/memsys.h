@@ -74,6 +74,8 @@ ks_fifo *memsys_fifo_at(const memsys *ms, int i, const char **config_key);
  * "mem_arbiter" -> arbiter; "memory" -> dram_adapter; "fixed" -> fixed_mem;
  * "lpddr3" -> dram); NULL if unknown. */
 const ks_module_desc *memsys_module_desc(const char *name);
+/* The memory side's own totals (node_l1.hit_rate, memory.bytes_total). */
+extern const ks_module_desc memsys_totals_desc;
 /* Comma-separated module names, for messages. */
 void memsys_module_list(FILE *out);
 

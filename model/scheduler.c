@@ -13,12 +13,19 @@ static const ks_desc_item sched_items[] = {
     {KS_DESC_PORT, "to_trv[i]", "out fifo<trv_msg>", "", "", "new rays to TRV i"},
     {KS_DESC_PORT, "from_trv[i]", "in fifo<trv_msg>", "", "", "finished rays from TRV i"},
     {KS_DESC_STAT, "admitted", "rays", "", "", "rays admitted"},
-    {KS_DESC_STAT, "completed", "rays", "", "", "rays completed"},
+    {KS_DESC_STAT, "primaries", "rays", "", "", "primary rays admitted"},
     {KS_DESC_STAT, "bounces", "rays", "", "", "bounce rays admitted"},
-    {KS_DESC_STAT, "occlusion_rays", "rays", "", "", "occlusion rays completed (only in runs with occlusion rays)"},
-    {KS_DESC_STAT, "occluded", "rays", "", "", "occlusion rays that hit something (only in runs with occlusion rays)"},
+    {KS_DESC_STAT, "completed", "rays", "", "", "rays completed"},
+    {KS_DESC_STAT, "failed", "rays", "", "", "rays that overflowed their stack"},
+    /* only in runs with occlusion rays */
+    {KS_DESC_STAT, "occlusion_rays", "rays", "", "", "occlusion rays completed (any hit ends them; no sort)"},
+    {KS_DESC_STAT, "occluded", "rays", "", "", "occlusion rays that hit something in (tmin, tmax)"},
+    {KS_DESC_STAT, "max_in_flight", "rays", "", "", "most rays in flight at once"},
+    {KS_DESC_STAT, "latency_max", "cycles", "", "", "longest ray latency, admission to completion"},
+    {KS_DESC_STAT, "admit_stall_cycles", "cycles", "", "", "cycles a ready ray found no free slot or a full TRV FIFO"},
     {KS_DESC_STAT, "latency_mean", "cycles", "", "", "mean ray latency, admission to completion"},
     {KS_DESC_STAT, "rays_in_flight_mean", "rays", "", "", "time-averaged rays in flight"},
+    {KS_DESC_STAT, "latency", "cycles", "", "", "ray latency histogram"},
     {KS_DESC_END, 0, 0, 0, 0, 0}};
 
 const ks_module_desc sched_module_desc = {"sched", "ray scheduler: ray slots, primary rays, bounce feeding", sched_items};
@@ -102,35 +109,29 @@ static double in_flight_mean(const ks_stats *reg, void *user)
     return sched_mean_in_flight(s, s->last_area_cycle);
 }
 
-void sched_register(sched_unit *s, const char *name, ks_stats *st, ks_vcd *vcd)
+int sched_register(sched_unit *s, const char *name, ks_stats *st, ks_vcd *vcd)
 {
     char nm[160];
-#define REG(stat, unit, desc, field)                                                                                    \
-    do {                                                                                                               \
-        ks_stat_counter_ref_in(st, name, stat, unit, desc, &s->field);                                               \
-    } while (0)
+    int rc = 0;
     if (st) {
-        REG("admitted", "rays", "rays admitted", admitted);
-        REG("primaries", "rays", "primary rays admitted", primaries);
-        REG("bounces", "rays", "bounce rays admitted", bounces);
-        REG("completed", "rays", "rays completed", completed);
-        REG("failed", "rays", "rays that overflowed their stack", failed);
+        const ks_module_desc *d = &sched_module_desc;
+        rc |= ks_stat_decl_counter(st, d, name, "admitted", &s->admitted);
+        rc |= ks_stat_decl_counter(st, d, name, "primaries", &s->primaries);
+        rc |= ks_stat_decl_counter(st, d, name, "bounces", &s->bounces);
+        rc |= ks_stat_decl_counter(st, d, name, "completed", &s->completed);
+        rc |= ks_stat_decl_counter(st, d, name, "failed", &s->failed);
         if (s->src.occlusion) {
-            REG("occlusion_rays", "rays", "occlusion rays completed (any hit ends them; no sort)", occlusion_rays);
-            REG("occluded", "rays", "occlusion rays that hit something in (tmin, tmax)", occluded);
+            rc |= ks_stat_decl_counter(st, d, name, "occlusion_rays", &s->occlusion_rays);
+            rc |= ks_stat_decl_counter(st, d, name, "occluded", &s->occluded);
         }
-        REG("max_in_flight", "rays", "most rays in flight at once", max_in_flight);
-        REG("latency_max", "cycles", "longest ray latency, admission to completion", latency_max);
-        REG("admit_stall_cycles", "cycles", "cycles a ready ray found no free slot or a full TRV FIFO",
-            admit_stall_cycles);
-        snprintf(nm, sizeof nm, "%s.latency_mean", name);
-        ks_stat_formula(st, nm, "cycles", "mean ray latency, admission to completion", latency_mean, s);
-        snprintf(nm, sizeof nm, "%s.rays_in_flight_mean", name);
-        ks_stat_formula(st, nm, "rays", "time-averaged rays in flight", in_flight_mean, s);
-        snprintf(nm, sizeof nm, "%s.latency", name);
-        s->lat_hist = ks_stat_histogram(st, nm, "cycles", "ray latency histogram", 0, 20000, 40);
+        rc |= ks_stat_decl_counter(st, d, name, "max_in_flight", &s->max_in_flight);
+        rc |= ks_stat_decl_counter(st, d, name, "latency_max", &s->latency_max);
+        rc |= ks_stat_decl_counter(st, d, name, "admit_stall_cycles", &s->admit_stall_cycles);
+        rc |= ks_stat_decl_formula(st, d, name, "latency_mean", latency_mean, s);
+        rc |= ks_stat_decl_formula(st, d, name, "rays_in_flight_mean", in_flight_mean, s);
+        s->lat_hist = ks_stat_decl_histogram(st, d, name, "latency", 0, 20000, 40);
+        rc |= s->lat_hist ? 0 : -1;
     }
-#undef REG
     if (vcd) {
         snprintf(nm, sizeof nm, "%s.rays_in_flight", name);
         s->v_in_flight = ks_vcd_var_int(vcd, nm, 16, 0);
@@ -139,6 +140,7 @@ void sched_register(sched_unit *s, const char *name, ks_stats *st, ks_vcd *vcd)
         snprintf(nm, sizeof nm, "%s.done_ray", name);
         s->v_done_ray = ks_vcd_var_int(vcd, nm, 32, 0xFFFFFFFFu);
     }
+    return rc;
 }
 
 bool sched_finished(const sched_unit *s)

@@ -21,21 +21,34 @@ static const ks_desc_item trv_items[] = {
     {KS_DESC_PORT, "node_l1", "cache probe", "", "", "node L1 (cache_access; miss -> looping for next chance)"},
     {KS_DESC_PORT, "pipe", "internal fifo<trv_msg>", "", "", "the pipeline stages after issue (latency depth-1)"},
     {KS_DESC_PORT, "loop", "internal fifo<trv_msg>", "", "", "rays going round again"},
-    {KS_DESC_STAT, "busy_cycles", "cycles", "", "", "cycles a ray was issued"},
+    {KS_DESC_STAT, "busy_cycles", "cycles", "", "", "cycles a ray was issued into the pipeline"},
+    {KS_DESC_STAT, "passes", "passes", "", "", "ray passes through the pipeline"},
     {KS_DESC_STAT, "visits", "nodes", "", "", "node visits (committed)"},
-    {KS_DESC_STAT, "loops_miss", "passes", "", "", "passes invalidated by a node L1 miss"},
-    {KS_DESC_STAT, "loops_blocked", "passes", "", "", "passes invalidated because the L1 was blocked"},
+    {KS_DESC_STAT, "pop_passes", "passes", "", "", "passes that popped the stack"},
+    {KS_DESC_STAT, "loops_miss", "passes", "", "", "passes invalidated by a node L1 miss (looping for next chance)"},
+    {KS_DESC_STAT, "loops_blocked", "passes", "", "", "passes invalidated because the node L1 was blocked"},
     {KS_DESC_STAT, "box_tests", "tests", "", "", "slab tests of used child slots"},
+    {KS_DESC_STAT, "box_lanes", "tests", "", "", "slab test lanes active (N per visit)"},
+    {KS_DESC_STAT, "sort_passes", "passes", "", "", "passes through the sorting network"},
     {KS_DESC_STAT, "sort_swaps", "swaps", "", "", "compare-exchanges that swapped"},
     {KS_DESC_STAT, "stack_pushes", "entries", "", "", "stack entries written"},
     {KS_DESC_STAT, "stack_pops", "entries", "", "", "stack entries read (pops and culls)"},
+    {KS_DESC_STAT, "stack_ops", "operations", "", "", "stack operations (one per pass that touches the stack)"},
     {KS_DESC_STAT, "stack_conflict_cycles", "cycles", "", "", "issue stalls from stack bank conflicts"},
     {KS_DESC_STAT, "stack_max_depth", "entries", "", "", "deepest stack of any ray slot"},
-    {KS_DESC_STAT, "stack_bankB_writes", "entries", "", "", "stack entries written to bank B (one per bank)"},
-    {KS_DESC_STAT, "stack_bankB_reads", "entries", "", "", "stack entries read from bank B (pops and culls)"},
+    {KS_DESC_STAT, "stack_bank#_writes", "entries", "", "", "stack entries written to this bank"},
+    {KS_DESC_STAT, "stack_bank#_reads", "entries", "", "", "stack entries read from this bank (pops and culls)"},
     {KS_DESC_STAT, "culls", "entries", "", "", "stack entries discarded by the distance stack"},
+    {KS_DESC_STAT, "to_ist", "rays", "", "", "rays sent to the IST with a leaf"},
+    {KS_DESC_STAT, "done", "rays", "", "", "rays finished"},
+    {KS_DESC_STAT, "stack_overflows", "rays", "", "", "rays whose stack overflowed"},
+    {KS_DESC_STAT, "issue_new", "rays", "", "", "issues of new rays"},
+    {KS_DESC_STAT, "issue_ist", "rays", "", "", "issues of rays back from the IST"},
+    {KS_DESC_STAT, "issue_loop", "rays", "", "", "issues of looping/continuing rays"},
     {KS_DESC_STAT, "exit_stall_cycles", "cycles", "", "", "cycles the exit stage waited for a full output FIFO"},
+    {KS_DESC_STAT, "stack_stall_cycles", "cycles", "", "", "cycles issue waited for a multi-cycle stack operation"},
     {KS_DESC_STAT, "flops", "FLOP", "", "", "slab test FLOPs (all N lanes per visit)"},
+    {KS_DESC_STAT, "utilization", "fraction", "", "", "busy cycles / frame cycles"},
     {KS_DESC_PART, "fpu", "FPU", "", "",
      "slab tests and sort: branching x trv.box_flops + comparators FLOP units; energy per FLOP (docs/energy.md)"},
     {KS_DESC_PART, "stack_bank", "SRAM", "", "",
@@ -129,48 +142,44 @@ void trv_set_events(trv_unit *t, accel_event_fn fn, void *user)
     t->core.ev_user = user;
 }
 
-void trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd)
+int trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd)
 {
+    int rc = 0;
     if (st) {
         trv_core_stats *c = &t->core.st;
         trv_stack_stats *s = &t->core.stack.st;
-        ks_stat_counter_ref_in(st, name, "busy_cycles", "cycles", "cycles a ray was issued into the pipeline", &t->busy_cycles);
-        ks_stat_counter_ref_in(st, name, "passes", "passes", "ray passes through the pipeline", &c->passes);
-        ks_stat_counter_ref_in(st, name, "visits", "nodes", "node visits (committed)", &c->visits);
-        ks_stat_counter_ref_in(st, name, "pop_passes", "passes", "passes that popped the stack", &c->pop_passes);
-        ks_stat_counter_ref_in(st, name, "loops_miss", "passes", "passes invalidated by a node L1 miss (looping for next chance)",
-            &c->loops_miss);
-        ks_stat_counter_ref_in(st, name, "loops_blocked", "passes", "passes invalidated because the node L1 was blocked",
-            &c->loops_blocked);
-        ks_stat_counter_ref_in(st, name, "box_tests", "tests", "slab tests of used child slots", &c->box_tests);
-        ks_stat_counter_ref_in(st, name, "box_lanes", "tests", "slab test lanes active (N per visit)", &c->box_lanes);
-        ks_stat_counter_ref_in(st, name, "sort_passes", "passes", "passes through the sorting network", &c->sort_passes);
-        ks_stat_counter_ref_in(st, name, "sort_swaps", "swaps", "compare-exchanges that swapped", &c->sort_swaps);
-        ks_stat_counter_ref_in(st, name, "stack_pushes", "entries", "stack entries written", &s->pushes);
-        ks_stat_counter_ref_in(st, name, "stack_pops", "entries", "stack entries read (pops and culls)", &s->pops);
-        ks_stat_counter_ref_in(st, name, "stack_ops", "operations", "stack operations (one per pass that touches the stack)", &s->ops);
-        ks_stat_counter_ref_in(st, name, "stack_conflict_cycles", "cycles", "issue stalls from stack bank conflicts", &s->conflict_cycles);
-        ks_stat_counter_ref_in(st, name, "stack_max_depth", "entries", "deepest stack of any ray slot", &s->max_depth_stat);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "busy_cycles", &t->busy_cycles);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "passes", &c->passes);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "visits", &c->visits);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "pop_passes", &c->pop_passes);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "loops_miss", &c->loops_miss);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "loops_blocked", &c->loops_blocked);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "box_tests", &c->box_tests);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "box_lanes", &c->box_lanes);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "sort_passes", &c->sort_passes);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "sort_swaps", &c->sort_swaps);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "stack_pushes", &s->pushes);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "stack_pops", &s->pops);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "stack_ops", &s->ops);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "stack_conflict_cycles", &s->conflict_cycles);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "stack_max_depth", &s->max_depth_stat);
         for (uint32_t b = 0; b < t->core.stack.banks; b++) {
             char bn[48];
             snprintf(bn, sizeof bn, "stack_bank%u_writes", b);
-            ks_stat_counter_ref_in(st, name, bn, "entries", "stack entries written to this bank", &s->bank_writes[b]);
+            rc |= ks_stat_decl_counter(st, &trv_module_desc, name, bn, &s->bank_writes[b]);
             snprintf(bn, sizeof bn, "stack_bank%u_reads", b);
-            ks_stat_counter_ref_in(st, name, bn, "entries", "stack entries read from this bank (pops and culls)",
-                                   &s->bank_reads[b]);
+            rc |= ks_stat_decl_counter(st, &trv_module_desc, name, bn, &s->bank_reads[b]);
         }
-        ks_stat_counter_ref_in(st, name, "culls", "entries", "stack entries discarded by the distance stack", &c->culls);
-        ks_stat_counter_ref_in(st, name, "to_ist", "rays", "rays sent to the IST with a leaf", &c->to_ist);
-        ks_stat_counter_ref_in(st, name, "done", "rays", "rays finished", &c->done);
-        ks_stat_counter_ref_in(st, name, "stack_overflows", "rays", "rays whose stack overflowed", &c->overflows);
-        ks_stat_counter_ref_in(st, name, "issue_new", "rays", "issues of new rays", &t->issue_new);
-        ks_stat_counter_ref_in(st, name, "issue_ist", "rays", "issues of rays back from the IST", &t->issue_ist);
-        ks_stat_counter_ref_in(st, name, "issue_loop", "rays", "issues of looping/continuing rays", &t->issue_loop);
-        ks_stat_counter_ref_in(st, name, "exit_stall_cycles", "cycles", "cycles the exit stage waited for a full output FIFO",
-            &t->exit_stall_cycles);
-        ks_stat_counter_ref_in(st, name, "stack_stall_cycles", "cycles", "cycles issue waited for a multi-cycle stack operation",
-            &t->stack_stall_cycles);
-        ks_stat_counter_ref_in(st, name, "flops", "FLOP", "slab test FLOPs (all N lanes per visit)", &t->flops);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "culls", &c->culls);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "to_ist", &c->to_ist);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "done", &c->done);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "stack_overflows", &c->overflows);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "issue_new", &t->issue_new);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "issue_ist", &t->issue_ist);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "issue_loop", &t->issue_loop);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "exit_stall_cycles", &t->exit_stall_cycles);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "stack_stall_cycles", &t->stack_stall_cycles);
+        rc |= ks_stat_decl_counter(st, &trv_module_desc, name, "flops", &t->flops);
     }
     if (vcd) {
         t->vcd = true;
@@ -195,6 +204,7 @@ void trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd)
             {"stack", t->p.stages_stack}, {"next", t->p.stages_next}};
         pipe_trace_init(&t->stage_rays, vcd, name, parts, sizeof parts / sizeof parts[0]);
     }
+    return rc;
 }
 
 void trv_free(trv_unit *t)

@@ -88,7 +88,9 @@ void trv_set_events(trv_unit *t, accel_event_fn fn, void *user);
 /* Registers statistics under "<name>." and, when a VCD is open, the unit's
  * variables (state, ray ids at issue, in each pipeline stage and at exit,
  * rays held). */
-void trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd);
+/* 0, or -1 when a statistic is not declared in the unit's description
+ * (message in ks_stats_error). */
+int trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd);
 void trv_free(trv_unit *t);
 
 #endif

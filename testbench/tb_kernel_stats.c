@@ -173,10 +173,57 @@ static void test_module_desc(void)
     tb_end();
 }
 
+/* Declared registration: the unit and text come from the description, an
+ * undeclared name is refused, wildcards match and fill per-instance text. */
+static void test_declared(void)
+{
+    static const ks_desc_item items[] = {
+        {KS_DESC_STAT, "hits", "accesses", "", "", "accesses that hit"},
+        {KS_DESC_STAT, "grants_#", "requests", "", "", "requests granted to input #"},
+        {KS_DESC_STAT, "energy.*_dynamic_mj", "mJ", "", "", "dynamic energy of the *"},
+        {KS_DESC_STAT, "energy.*_mj", "mJ", "", "", "energy of the *"},
+        {KS_DESC_STAT, "never", "things", "", "", "declared, never registered"},
+        {KS_DESC_END, 0, 0, 0, 0, 0}};
+    static const ks_module_desc m = {"unit", "a test unit", items};
+    tb_begin("stats_declared_registration");
+    ks_stats *r = ks_stats_create();
+    uint64_t h = 3, g = 4;
+    double e = 1.5, dyn = 0.5;
+    TB_EQ_INT(ks_stat_decl_counter(r, &m, "u0", "hits", &h), 0);
+    TB_EQ_INT(ks_stat_decl_counter(r, &m, "u0", "grants_12", &g), 0);
+    TB_EQ_INT(ks_stat_decl_real(r, &m, NULL, "energy.trv_dynamic_mj", &dyn), 0);
+    TB_EQ_INT(ks_stat_decl_real(r, &m, NULL, "energy.trv_mj", &e), 0);
+    /* undeclared: refused with the module named, nothing registered */
+    TB_EQ_INT(ks_stat_decl_counter(r, &m, "u0", "misses", &h), -1);
+    TB_CHECK(strstr(ks_stats_error(r), "u0.misses") && strstr(ks_stats_error(r), "module unit"), "%s",
+             ks_stats_error(r));
+    TB_EQ_INT(ks_stat_decl_counter(r, &m, "u0", "grants_x", &g), -1);
+    double v = 0;
+    TB_EQ_INT(ks_stats_value(r, "u0.misses", &v), -1);
+    TB_EQ_INT(ks_stats_value(r, "u0.grants_12", &v), 0);
+    TB_CHECK(v == 4, "grants_12 = %g", v);
+    char *buf = NULL;
+    size_t len = 0;
+    FILE *f = open_memstream(&buf, &len);
+    ks_stats_write_json(r, f);
+    fclose(f);
+    TB_CHECK(strstr(buf, "\"u0.hits\": \"accesses\"") && strstr(buf, "requests granted to input 12") &&
+                 strstr(buf, "\"energy.trv_dynamic_mj\": \"dynamic energy of the trv\"") &&
+                 strstr(buf, "\"energy.trv_mj\": \"energy of the trv\""),
+             "%s", buf);
+    free(buf);
+    TB_CHECK(ks_stats_registered_from(r, &m, &items[0]) && ks_stats_registered_from(r, &m, &items[1]) &&
+                 !ks_stats_registered_from(r, &m, &items[4]),
+             "registered_from");
+    ks_stats_destroy(r);
+    tb_end();
+}
+
 int main(void)
 {
     test_registry();
     test_outputs();
     test_module_desc();
+    test_declared();
     return tb_finish();
 }

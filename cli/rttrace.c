@@ -679,6 +679,7 @@ int main(int argc, char **argv)
     progress pg = {!o.quiet && isatty(2), now_s(), 0, npix};
     const double tt0 = now_s();
     ks_interrupt_polling(true);   /* checked once a pixel */
+    size_t pixels_done = 0;
     for (uint32_t py = 0; py < o.res_h && rc == 0 && !ks_interrupted(); py++) {
         for (uint32_t px = 0; px < o.res_w && !ks_interrupted(); px++) {
             rt_ray ray = rt_camera_primary_ray(&cam, px, py);
@@ -712,6 +713,7 @@ int main(int argc, char **argv)
             tc.rgb[3 * pix + 2] = col.z;
             if ((pix & 1023) == 0)
                 progress_update(&pg, pix, false);
+            pixels_done++;
         }
     }
     s.trace_s = now_s() - tt0;
@@ -721,8 +723,8 @@ int main(int argc, char **argv)
     if (sig) {
         /* a cut log or image cannot say it is partial: only the JSON is written */
         char reason[160];
-        snprintf(reason, sizeof reason, "interrupted by %s after %" PRIu64 " of %zu pixels' rays", ks_interrupt_name(sig),
-                 s.rays, npix);
+        snprintf(reason, sizeof reason, "interrupted by %s after %zu of %zu pixels (%" PRIu64 " rays)",
+                 ks_interrupt_name(sig), pixels_done, npix, s.rays);
         if (pg.on)
             fputs("\n", stderr);
         s.wall_s = now_s() - t0;

@@ -275,7 +275,8 @@ int main(int argc, char **argv)
         case '?':
         default:
             free(sets);
-            if (optopt)
+            /* a long option's optopt is its code (>= 256), not a character */
+            if (optopt && optopt < 256)
                 fprintf(stderr, "rtsim: option needs a value or is unknown: -%c\n", optopt);
             else
                 fprintf(stderr, "rtsim: unknown option or missing value: %s\n", argv[optind - 1]);

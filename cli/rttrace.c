@@ -157,6 +157,7 @@ typedef struct stats {
     rt_tlog_totals log;
     bool log_written;
     double build_s, trace_s, wall_s;
+    bool failed;              /* validation failed (exit 1): the JSON says "run_failed": 1 */
     float visits_max, tris_max;
 } stats;
 
@@ -350,6 +351,8 @@ static int write_json(const char *path, const run_info *ri, const stats *s, bool
         json_d(f, "trace_s", s->trace_s, &first);
         json_d(f, "trace_mrays_per_s", s->trace_s > 0 ? (double)s->rays / s->trace_s / 1e6 : 0.0, &first);
         json_d(f, "wall_s", s->wall_s, &first);
+        if (s->failed)   /* only then: a passing run's JSON is unchanged */
+            json_u(f, "run_failed", 1, &first);
     }
     fputs("\n}\n", f);
     fclose(f);
@@ -801,9 +804,8 @@ int main(int argc, char **argv)
      * above --max-mismatch-rate it gives a warning. */
     uint64_t mism = embree_mismatches(&s.tally);
     bool embree_fail = o.check_embree && s.tally.cause[RT_EMBREE_OTHER] > 0;
+    bool overflow_fail = s.overflows > 0;   /* a ray the hardware's stack cannot trace fails too */
     bool embree_warn = o.check_embree && (double)mism > o.max_mismatch_rate * (double)s.tally.rays;
-    if (s.overflows)
-        embree_fail = true;   /* a ray the hardware's stack cannot trace is a failure too */
 
     if (!o.quiet) {
         printf("view       %s, %ux%u, %s", view->name, o.res_w, o.res_h, o.diffuse ? "diffuse paths" : "primary rays");
@@ -856,11 +858,12 @@ int main(int argc, char **argv)
     else if (embree_warn)
         fprintf(stderr, "rttrace: --check-embree: warning: %" PRIu64 " of %" PRIu64 " rays differ from Embree for explained causes (above --max-mismatch-rate %g); not a failure\n",
                 mism, s.tally.rays, o.max_mismatch_rate);
+    s.failed = embree_fail || overflow_fail;
     if (o.json && write_json(o.json, &ri, &s, false, NULL) != 0) {
         rc = 2;
         goto done;
     }
-    rc = embree_fail ? 1 : 0;
+    rc = s.failed ? 1 : 0;
 
 done:
     if (rc == 2)

@@ -220,10 +220,11 @@ ks_out *ks_out_plan(const char *opt, const char *path, char *err, size_t errlen)
     return o;
 }
 
-ks_out *ks_out_find(const char *path)
+ks_out *ks_out_find(const char *path, const char *opt)
 {
-    for (int i = 0; path && i < g_nouts; i++)
-        if (g_outs[i].live && !g_outs[i].f && !g_outs[i].staged && !strcmp(g_outs[i].path, path))
+    for (int i = 0; path && opt && i < g_nouts; i++)
+        if (g_outs[i].live && !g_outs[i].f && !g_outs[i].staged && !strcmp(g_outs[i].path, path) &&
+            !strcmp(g_outs[i].opt, opt))
             return &g_outs[i];
     return NULL;
 }

@@ -25,8 +25,10 @@
  *    in-place target a file in $TMPDIR (default /tmp) that commit copies in.
  *  - ks_out_discard() closes and removes the temporary (an in-place output
  *    keeps what was written: it cannot be taken back).
- *  - ks_out_find(path): the plan of path, so a library writer (the VCD
- *    writer) given only a path uses the tool's plan; NULL if none.
+ *  - ks_out_find(path, opt): the live plan of path made for option opt, so
+ *    a library writer given only a path (the VCD writer: opt "--vcd") uses
+ *    the tool's plan; NULL if none. Character devices may be planned twice
+ *    (--json /dev/null --vcd /dev/null): the option tells the plans apart.
  *  - ks_out_remove_temps_signal_safe(): unlinks every temporary not yet
  *    committed using only async-signal-safe calls (the interrupt handler);
  *    ks_out_discard_all() does the same from normal code.
@@ -42,7 +44,7 @@
 typedef struct ks_out ks_out;
 
 ks_out *ks_out_plan(const char *opt, const char *path, char *err, size_t errlen);
-ks_out *ks_out_find(const char *path);
+ks_out *ks_out_find(const char *path, const char *opt);
 /* True when the output is written in place (stdout, a device, a pipe). */
 bool ks_out_in_place(const ks_out *o);
 

@@ -46,7 +46,7 @@ struct ks_vcd {
     unsigned cap_dirty;
     uint8_t header_done;
     /* private */
-    uint8_t started, ended, io_error;
+    uint8_t started, ended, io_error, discard;
     ks_sim *sim;
     FILE *f;
     char *path;
@@ -700,7 +700,7 @@ ks_vcd *ks_vcd_open(ks_sim *sim, const char *path, const char *timescale, ks_tim
     /* the tool planned the path with its other outputs (checked, reserved
      * before the run); a caller that did not gets a plan here */
     char oerr[512];
-    d->out = ks_out_find(path);
+    d->out = ks_out_find(path, "--vcd");
     if (!d->out)
         d->out = ks_out_plan("VCD", path, oerr, sizeof oerr);
     d->f = d->out ? ks_out_begin(d->out, oerr, sizeof oerr) : NULL;
@@ -763,15 +763,26 @@ void ks__vcd_finish(ks_vcd *d)
     flush_buf(d);
 }
 
+void ks_vcd_discard(ks_vcd *d)
+{
+    if (!d)
+        return;
+    d->discard = 1;
+    ks_vcd_close(d);
+}
+
 int ks_vcd_close(ks_vcd *d)
 {
     if (!d)
         return 0;
     ks_sim *sim = d->sim;
-    ks__vcd_finish(d);
+    if (!d->discard)
+        ks__vcd_finish(d);
     int rc = 0;
     char oerr[512];
-    if (d->io_error) {
+    if (d->discard) {
+        ks_out_discard(d->out);
+    } else if (d->io_error) {
         ks__set_error(sim, "VCD %s: write error (disk full?)", d->path);
         ks_out_discard(d->out);
         rc = -1;

@@ -40,6 +40,9 @@ typedef struct ks_vcd_var ks_vcd_var;
 ks_vcd *ks_vcd_open(ks_sim *sim, const char *path, const char *timescale, ks_time window_begin,
                     ks_time window_end, const char *filter);
 int ks_vcd_close(ks_vcd *vcd);
+/* Closes without keeping the file (a run that never started): the
+ * temporary is removed; an in-place output keeps what was written. */
+void ks_vcd_discard(ks_vcd *vcd);
 /* The writer open on a sim, or NULL. */
 ks_vcd *ks_sim_vcd(const ks_sim *sim);
 

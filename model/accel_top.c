@@ -203,7 +203,7 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     if (t->vcd && ks_vcd_var_count(t->vcd) == 0) {
         /* a VCD without variables is of no use, and looked like a valid one */
         snprintf(err, errlen, "--vcd-filter %s: matches none of the traced variables (globs on full dotted names, "
-                 "e.g. 'trv0.*,sched.*'; docs/accel.md)", opts->vcd_filter ? opts->vcd_filter : "");
+                 "e.g. 'trv0.*,ist.*'; docs/accel.md)", opts->vcd_filter ? opts->vcd_filter : "");
         goto fail;
     }
     return t;
@@ -217,7 +217,7 @@ void accel_top_destroy(accel_top *t)
     if (!t)
         return;
     if (t->vcd)
-        ks_vcd_close(t->vcd);
+        ks_vcd_discard(t->vcd);   /* still open: the run never finished (accel_top_run closes it) */
     if (t->trv)
         for (uint32_t i = 0; i < t->p.trv_count; i++)
             trv_free(&t->trv[i]);

@@ -42,6 +42,18 @@ static ks_out g_outs[OUT_MAX];
 static int g_nouts;
 static bool g_atexit;
 
+/* dst = a followed by suffix. Both names live in one ks_out: copied by
+ * length, as gcc -O1's -Wrestrict flags an snprintf between members of one
+ * object (a false positive: the members do not overlap). */
+static void join(char *dst, size_t cap, const char *a, const char *suffix)
+{
+    size_t n = strlen(a);
+    if (n >= cap)
+        n = cap - 1;
+    memmove(dst, a, n);
+    snprintf(dst + n, cap - n, "%s", suffix);
+}
+
 static int fail(char *err, size_t errlen, const ks_out *o, const char *fmt, const char *a, const char *b)
 {
     int n = snprintf(err, errlen, "%s %.256s: ", o->opt, o->path);
@@ -182,7 +194,9 @@ ks_out *ks_out_plan(const char *opt, const char *path, char *err, size_t errlen)
                      OUT_NAME_MAX, strlen(o->target));
             return NULL;
         }
-        snprintf(o->tmp, sizeof o->tmp, "%s.tmp.%ld", o->target, (long)getpid());
+        char suffix[32];
+        snprintf(suffix, sizeof suffix, ".tmp.%ld", (long)getpid());
+        join(o->tmp, sizeof o->tmp, o->target, suffix);
         o->fd = open(o->tmp, O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
         if (o->fd < 0) {
             const char *why = errno == EACCES || errno == EROFS ? "folder is not writable" : strerror(errno);
@@ -253,7 +267,9 @@ const char *ks_out_stage(ks_out *o, char *err, size_t errlen)
          * extension, so a writer choosing its format by name still can */
         char old[sizeof o->tmp];
         memcpy(old, o->tmp, sizeof old);
-        snprintf(o->tmp, sizeof o->tmp, "%s%s", old, extension(o->target));
+        char ext[32];
+        snprintf(ext, sizeof ext, "%s", extension(o->target));
+        join(o->tmp, sizeof o->tmp, old, ext);
         close(o->fd);
         o->fd = -1;
         if (strcmp(old, o->tmp) && rename(old, o->tmp) != 0) {
@@ -277,7 +293,9 @@ const char *ks_out_stage(ks_out *o, char *err, size_t errlen)
         o->tmp_live = 1;
     }
     /* the trace-log writer (tracer/trace_log_write.c) writes "NAME.tmp.PID" itself */
-    snprintf(o->inner, sizeof o->inner, "%s.tmp.%ld", o->tmp, (long)getpid());
+    char suffix[32];
+    snprintf(suffix, sizeof suffix, ".tmp.%ld", (long)getpid());
+    join(o->inner, sizeof o->inner, o->tmp, suffix);
     o->staged = true;
     return o->tmp;
 }

@@ -117,7 +117,7 @@ while IFS=$'\t' read -r name tool code msg setup cmd allowed; do
     export TMPDIR="$w/tmpdir"
     [ "$setup" != "-" ] && bash -c "$setup" >/dev/null 2>&1
     before=$(snapshot)
-    out=$(timeout 300 bash -c "$cmd" 2>&1 </dev/null); rc=$?
+    out=$(timeout 120 bash -c "$cmd" 2>&1 </dev/null); rc=$?
     problems=""
     [ "$rc" -ne "$code" ] && problems+="exit $rc, expected $code; "
     [ "$msg" != "-" ] && ! grep -qF -- "$msg" <<<"$out" && problems+="message lacks '$msg'; "

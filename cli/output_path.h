@@ -1,54 +1,85 @@
-/* output_path.h — checks a tool's output path before any work is done, so a
- * long run never ends with "cannot create": the folder must exist and be
- * writable, and the path must not be a folder. Outputs are still written to
- * a temporary name and renamed when complete (each tool does that). */
+/* output_path.h — what rtsim, rttrace and rtdram share around their outputs
+ * (header-only: cli/ builds one binary per .c file).
+ *  - cli_plan_outputs(): plans every output of the run through the output
+ *    layer (kernel/out_file.h) before any work is done, in the order given,
+ *    so a bad path, or two options naming the same file, fail at start-up
+ *    with exit 2 instead of after the run.
+ *  - cli_write_json(): writes a JSON text to a planned output, with
+ *    "partial": true and "partial_reason" inserted as its first keys when
+ *    the run was interrupted (the rest of the object is unchanged, so a
+ *    complete run's JSON stays byte-identical). */
 #ifndef RTSIM_CLI_OUTPUT_PATH_H
 #define RTSIM_CLI_OUTPUT_PATH_H
 
 #include <stdbool.h>
 #include <stdio.h>
 #include <string.h>
-#include <sys/stat.h>
-#include <unistd.h>
 
-/* True when path (given with option opt) can be written; else false with
- * "OPT PATH: why" in err. A NULL path (option not given) is fine. */
-static inline bool cli_output_path_ok(const char *opt, const char *path, char *err, size_t errlen)
+#include "kernel/interrupt.h"
+#include "kernel/out_file.h"
+
+typedef struct cli_output {
+    const char *opt;   /* "--json" */
+    const char *path;  /* NULL: option not given */
+    ks_out *out;       /* the plan, set by cli_plan_outputs */
+} cli_output;
+
+/* True when every given path could be planned; else false with "OPT PATH:
+ * why" in err and nothing left on disk. */
+static inline bool cli_plan_outputs(cli_output *outs, int n, char *err, size_t errlen)
 {
-    if (!path)
-        return true;
-    if (!*path) {
-        snprintf(err, errlen, "%s: empty file name", opt);
-        return false;
-    }
-    char dir[4096];
-    /* room for the temporary name "PATH.tmp.PID" within PATH_MAX (4096); a
-     * longer path's folder was cut below, and checking the cut folder let
-     * the path pass until the run ended with "cannot create" */
-    const size_t max_len = sizeof dir - 17;
-    if (strlen(path) > max_len) {
-        snprintf(err, errlen, "%s %.64s...: path longer than %zu characters", opt, path, max_len);
-        return false;
-    }
-    const char *slash = strrchr(path, '/');
-    if (slash)
-        snprintf(dir, sizeof dir, "%.*s", (int)(slash - path) ? (int)(slash - path) : 1, path);
-    else
-        snprintf(dir, sizeof dir, ".");
-    struct stat st;
-    if (stat(dir, &st) != 0 || !S_ISDIR(st.st_mode)) {
-        snprintf(err, errlen, "%s %s: folder %s does not exist", opt, path, dir);
-        return false;
-    }
-    if (access(dir, W_OK) != 0) {
-        snprintf(err, errlen, "%s %s: folder %s is not writable", opt, path, dir);
-        return false;
-    }
-    if (stat(path, &st) == 0 && S_ISDIR(st.st_mode)) {
-        snprintf(err, errlen, "%s %s: is a folder", opt, path);
-        return false;
+    for (int i = 0; i < n; i++) {
+        outs[i].out = NULL;
+        if (!outs[i].path)
+            continue;
+        outs[i].out = ks_out_plan(outs[i].opt, outs[i].path, err, errlen);
+        if (!outs[i].out) {
+            for (int j = 0; j < i; j++)
+                ks_out_discard(outs[j].out);
+            return false;
+        }
     }
     return true;
+}
+
+/* Writes json (a JSON object's text) to f; when reason is not NULL the keys
+ * "partial": true and "partial_reason" come first, in the object's style
+ * (one key a line, or all on one line). */
+static inline void cli_json_put(FILE *f, const char *json, const char *reason)
+{
+    const char *open = reason ? strchr(json, '{') : NULL;
+    if (!open) {
+        fputs(json, f);
+        return;
+    }
+    const char *key = open + 1;
+    while (*key == ' ' || *key == '\n')
+        key++;
+    fwrite(json, 1, (size_t)(key - json), f);
+    int indent = (int)(key - open - 1); /* "\n  " between keys, or "" */
+    const char *sep = indent ? open + 1 : " ";
+    int seplen = indent ? indent : 1;
+    fputs("\"partial\": true,", f);
+    fwrite(sep, 1, (size_t)seplen, f);
+    fputs("\"partial_reason\": \"", f);
+    for (const char *c = reason; *c; c++)
+        if (*c == '"' || *c == '\\')
+            fprintf(f, "\\%c", *c);
+        else if ((unsigned char)*c >= 0x20)
+            fputc(*c, f);
+    fputs("\",", f);
+    fwrite(sep, 1, (size_t)seplen, f);
+    fputs(key, f);
+}
+
+/* Writes json to a planned output and commits it; 0, or -1 with err. */
+static inline int cli_write_json(ks_out *out, const char *json, const char *reason, char *err, size_t errlen)
+{
+    FILE *f = ks_out_begin(out, err, errlen);
+    if (!f)
+        return -1;
+    cli_json_put(f, json, reason);
+    return ks_out_commit(out, err, errlen);
 }
 
 #endif

@@ -1,7 +1,10 @@
 /* rtdram — runs a DRAM request trace through the LPDDR3 controller model.
  *   rtdram TRACE [--config FILE] [--power FILE] [--set KEY=VALUE]... [--json]
  *                [--cmd-trace FILE] [--check] [--exhaustive] [--kernel] [--help] [--version]
- * Exit: 0 ok, 1 timing violations found by --check, 2 bad usage or input. */
+ * Exit: 0 ok, 1 timing violations found by --check, 2 bad usage or input,
+ * 130/143 interrupted (Ctrl-C/SIGTERM: the statistics so far, marked partial;
+ * the command trace ends with a "# partial" line). The --cmd-trace path is
+ * planned before the run through the output layer (kernel/out_file.h). */
 #include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -9,6 +12,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "cli/output_path.h"
 #include "model/dram_checker.h"
 #include "model/dram_ctrl.h"
 #include "model/dram_energy.h"
@@ -62,7 +66,7 @@ static void on_cmd(void *user, const dram_cmd_rec *r)
 }
 
 /* The summary JSON, one line, with the run object first (cli/run_info.h). */
-static int json_with_run(const dram_summary *s, const cli_run_info *ri)
+static int json_with_run(const dram_summary *s, const cli_run_info *ri, FILE *out)
 {
     char *buf = NULL;
     size_t len = 0;
@@ -72,7 +76,7 @@ static int json_with_run(const dram_summary *s, const cli_run_info *ri)
     dram_summary_json(s, m);
     int rc = fclose(m);
     if (!rc)
-        rc = cli_run_splice(stdout, ri, buf, len, true);
+        rc = cli_run_splice(out, ri, buf, len, true);
     free(buf);
     return rc;
 }
@@ -81,6 +85,7 @@ int main(int argc, char **argv)
 {
     static cli_run_info run;   /* provenance of the JSON (docs/results.md) */
     cli_run_init(&run, "rtdram", argc, argv);
+    ks_interrupt_install("rtdram");
     static const struct option opts[] = {
         {"config", required_argument, 0, 'c'}, {"power", required_argument, 0, 'p'},
         {"set", required_argument, 0, 's'},    {"json", no_argument, 0, 'j'},
@@ -117,9 +122,17 @@ int main(int argc, char **argv)
         return 2;
     }
     const char *trace = argv[optind];
+    char err[600];
+    /* the output path first: a bad one fails before the run, not after it */
+    cli_output outs[1] = {{"--cmd-trace", cmd_trace, NULL}};
+    if (!cli_plan_outputs(outs, 1, err, sizeof err)) {
+        fprintf(stderr, "rtdram: %s\n", err);
+        free(sets);
+        return 2;
+    }
     const char *dir = getenv("RTSIM_DATA_DIR") ? getenv("RTSIM_DATA_DIR") : RTSIM_DATA_DIR;
     /* PATH_MAX (4096) and more: a cut default path would name another file */
-    char cfg_buf[4200], pow_buf[4200], err[600];
+    char cfg_buf[4200], pow_buf[4200];
     if (!config) {
         if (snprintf(cfg_buf, sizeof cfg_buf, "%s/lpddr3_1600.ini", dir) >= (int)sizeof cfg_buf) {
             fprintf(stderr, "rtdram: RTSIM_DATA_DIR %.64s...: path too long\n", dir);
@@ -164,18 +177,10 @@ int main(int argc, char **argv)
     if (c)
         dram_set_exhaustive(c, exhaustive);
     sink sk = {0};
-    char tmp[4200];   /* PATH_MAX (4096) and the suffix */
-    if (cmd_trace) {
-        /* a cut name is another file: it was opened, overwritten and renamed away */
-        if (snprintf(tmp, sizeof tmp, "%s.tmp.%ld", cmd_trace, (long)getpid()) >= (int)sizeof tmp) {
-            fprintf(stderr, "rtdram: --cmd-trace %.64s...: path too long\n", cmd_trace);
-            fclose(tf);
-            dram_ctrl_destroy(c);
-            return 2;
-        }
-        sk.f = fopen(tmp, "w");
+    if (outs[0].out) {
+        sk.f = ks_out_begin(outs[0].out, err, sizeof err);
         if (!sk.f) {
-            fprintf(stderr, "rtdram: %s: cannot write\n", tmp);
+            fprintf(stderr, "rtdram: %s\n", err);
             fclose(tf);
             dram_ctrl_destroy(c);
             return 2;
@@ -189,6 +194,7 @@ int main(int argc, char **argv)
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     double cpu0 = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID);
+    ks_interrupt_polling(true);   /* both run loops check ks_interrupted() */
     dram_trace_result res;
     dram_summary s;
     int rc = kernel ? dram_port_trace_run(&spec, &pspec, tf, trace, sk.f || sk.checker ? on_cmd : NULL, &sk, exhaustive,
@@ -198,32 +204,32 @@ int main(int argc, char **argv)
     run.has_sim = true, run.sim_cpu_s = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
     run.sim_wall_s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
     fclose(tf);
-    if (rc) {
+    const int sig = rc == 3 ? ks_interrupted() : 0;
+    if (rc && !sig) {
         fprintf(stderr, "rtdram: %s\n", err);
-        if (sk.f) {
-            fclose(sk.f);
-            remove(tmp);
-        }
+        ks_out_discard_all();
         dram_checker_destroy(sk.checker);
         dram_ctrl_destroy(c);
         return rc;
     }
-    if (sk.f) {
-        int bad = ferror(sk.f);
-        bad |= fclose(sk.f) != 0;
-        if (bad || rename(tmp, cmd_trace) != 0) {
-            fprintf(stderr, "rtdram: %s: write failed\n", cmd_trace);
-            remove(tmp);
-            dram_checker_destroy(sk.checker);
-            dram_ctrl_destroy(c);
-            return 2;
-        }
+    char reason[200] = "";
+    if (sig) {
+        snprintf(reason, sizeof reason, "interrupted by %s after %llu requests", ks_interrupt_name(sig),
+                 (unsigned long long)res.requests);
+        if (sk.f)
+            fprintf(sk.f, "# partial: %s\n", reason);
+    }
+    if (sk.f && ks_out_commit(outs[0].out, err, sizeof err) != 0) {
+        fprintf(stderr, "rtdram: %s\n", err);
+        dram_checker_destroy(sk.checker);
+        dram_ctrl_destroy(c);
+        return 2;
     }
     if (c)
         dram_summary_compute(c, &pspec, &s);
     int status = 0;
     uint64_t viol = 0;
-    if (sk.checker) {
+    if (sk.checker && !sig) {   /* an interrupted stream ends mid-way: nothing to check at its end */
         viol = dram_checker_finish(sk.checker, s.dram_cycles);
         if (viol)
             status = 1;
@@ -231,11 +237,23 @@ int main(int argc, char **argv)
     if (json) {
         run.trace = trace;
         run.has_cycles = true, run.cycles = (uint64_t)s.dram_cycles;
-        if (json_with_run(&s, &run)) {
+        /* the run object first, then "partial" in front when interrupted */
+        char *text = NULL;
+        size_t len = 0;
+        FILE *mf = open_memstream(&text, &len);
+        int jrc = mf ? json_with_run(&s, &run, mf) : -1;
+        if (mf)
+            jrc |= fclose(mf);
+        if (jrc) {
             fprintf(stderr, "rtdram: --json: write error\n");
             status = 2;
+        } else {
+            cli_json_put(stdout, text, sig ? reason : NULL);
         }
+        free(text);
     } else {
+        if (sig)
+            printf("PARTIAL              %s\n", reason);
         double host = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
         printf("trace                %s (%llu requests: %llu reads, %llu writes)\n", trace,
                (unsigned long long)res.requests, (unsigned long long)res.reads, (unsigned long long)res.writes);
@@ -249,5 +267,11 @@ int main(int argc, char **argv)
     }
     dram_checker_destroy(sk.checker);
     dram_ctrl_destroy(c);
+    if (sig) {
+        fflush(stdout);
+        fprintf(stderr, "rtdram: %s: statistics so far, marked partial%s\n", reason,
+                cmd_trace ? "; the command trace ends with a '# partial' line" : "");
+        return ks_interrupt_exit_status();
+    }
     return status;
 }

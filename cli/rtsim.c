@@ -3,7 +3,11 @@
  * width, feeds primary (or diffuse path) rays through the model and prints
  * cycles, MRPS, utilization, cache hit rates, DRAM traffic and rays in flight.
  * Exit status: 0 success, 1 simulation failure (deadlock, stack overflow),
- * 2 bad usage or input. Outputs are written to a temporary name and renamed. */
+ * 2 bad usage or input, 130/143 interrupted (Ctrl-C/SIGTERM: the VCD ends at
+ * the last complete time step, the JSON holds the statistics so far marked
+ * "partial"). Every output path is planned before the run through the output
+ * layer (kernel/out_file.h: temporary name and rename for files, in place for
+ * stdout "-", devices and pipes; two outputs naming one file are refused). */
 #include <errno.h>
 #include <getopt.h>
 #include <stdio.h>
@@ -188,27 +192,28 @@ static int write_stats_run(ks_stats *st, const cli_run_info *ri, FILE *f)
     return rc ? -1 : 0;
 }
 
-static int write_json(ks_stats *st, const cli_run_info *ri, const char *path, char *err, size_t errlen)
+/* The statistics with the run object (cli/run_info.h) as their first member,
+ * marked partial (reason) when the run was interrupted. */
+static int write_json(ks_stats *st, const cli_run_info *ri, ks_out *out, const char *reason, char *err,
+                      size_t errlen)
 {
-    char tmp[4096];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f) {
-        snprintf(err, errlen, "--json %s: cannot create: %s", path, strerror(errno));
+    char *text = NULL;
+    size_t len = 0;
+    FILE *mf = open_memstream(&text, &len);
+    if (!mf) {
+        snprintf(err, errlen, "--json: out of memory");
         return -1;
     }
-    int rc = write_stats_run(st, ri, f);
-    if (fclose(f) || rc) {
-        remove(tmp);
-        snprintf(err, errlen, "--json %s: write error", path);
+    int rc = write_stats_run(st, ri, mf);
+    rc |= fclose(mf);
+    if (rc) {
+        free(text);
+        snprintf(err, errlen, "--json: out of memory");
         return -1;
     }
-    if (rename(tmp, path)) {
-        remove(tmp);
-        snprintf(err, errlen, "--json %s: cannot rename: %s", path, strerror(errno));
-        return -1;
-    }
-    return 0;
+    rc = cli_write_json(out, text, reason, err, errlen);
+    free(text);
+    return rc;
 }
 
 /* Bad usage inside main: free the --set list, print, exit 2. */
@@ -229,6 +234,8 @@ int main(int argc, char **argv)
     uint64_t bounces = 4, seed = 1, vcd_a = 0, vcd_b = 0;
     const char **sets = calloc((size_t)argc, sizeof *sets);
     int nsets = 0;
+    bool vcd_window = false;
+    ks_interrupt_install("rtsim");
     enum { O_VIEW = 256, O_VIEWS, O_MACHINE, O_RAYS, O_RES, O_BOUNCES, O_SEED, O_SET, O_JSON, O_VCD, O_VCDW, O_VCDF,
            O_HEAT, O_AUTO, O_HELPMOD, O_QUIET, O_EXHAUSTIVE, O_HELP, O_VERSION };
     static const struct option opts[] = {
@@ -278,6 +285,7 @@ int main(int argc, char **argv)
             if (!parse_u64(a, 0, UINT64_MAX / 4, &vcd_a) || !parse_u64(colon + 1, 1, UINT64_MAX / 4, &vcd_b) ||
                 vcd_b <= vcd_a)
                 USAGE_ERR("--vcd-window %s: expected A:B (cycles, A < B)%s", optarg, "");
+            vcd_window = true;
             break;
         }
         case O_VCDF: vcd_filter = optarg; break;
@@ -291,7 +299,8 @@ int main(int argc, char **argv)
         case '?':
         default:
             free(sets);
-            if (optopt)
+            /* a long option's optopt is its code (>= 256), not a character */
+            if (optopt && optopt < 256)
                 fprintf(stderr, "rtsim: option needs a value or is unknown: -%c\n", optopt);
             else
                 fprintf(stderr, "rtsim: unknown option or missing value: %s\n", argv[optind - 1]);
@@ -303,6 +312,10 @@ int main(int argc, char **argv)
         scene_name = argv[optind++];
     if (optind < argc) {
         USAGE_ERR("unexpected argument %s (one SCENE only)%s", argv[optind], "");
+    }
+    if (!vcd && (vcd_window || vcd_filter)) {
+        USAGE_ERR("%s: only with --vcd FILE (no waveform is written without it)%s",
+                  vcd_window ? "--vcd-window" : "--vcd-filter", "");
     }
     if (heatmap && !rt_image_format_supported(heatmap)) {
         USAGE_ERR("--heatmap %s: the file must end in .png or .exr%s", heatmap, "");
@@ -330,9 +343,11 @@ int main(int argc, char **argv)
         goto fail;
     if (!rt_parse_resolution(res, &w, &h, err, sizeof err))
         goto fail;
-    if (!cli_output_path_ok("--json", json, err, sizeof err) || !cli_output_path_ok("--vcd", vcd, err, sizeof err) ||
-        !cli_output_path_ok("--heatmap", heatmap, err, sizeof err) ||
-        !cli_output_path_ok("--autosize-fifos", autosize, err, sizeof err))
+    /* every output before the scene is loaded: the VCD writer finds its
+     * plan by path (kernel/vcd.h) */
+    cli_output outs[4] = {{"--json", json, NULL}, {"--vcd", vcd, NULL}, {"--heatmap", heatmap, NULL},
+                          {"--autosize-fifos", autosize, NULL}};
+    if (!cli_plan_outputs(outs, 4, err, sizeof err))
         goto fail;
     if (!rt_scene_load(scene_name, &sc, err, sizeof err))
         goto fail;
@@ -364,17 +379,25 @@ int main(int argc, char **argv)
         goto fail;
     progress_state ps = {!quiet && isatty(2), src.primary_count, wall(), &src};
     double t0 = wall(), c0 = cpu();
+    ks_interrupt_polling(true);   /* accel_top_run checks ks_interrupted() every slice */
     int run_rc = accel_top_run(top, progress_cb, &ps, err, sizeof err);
     double host_s = wall() - t0, cpu_s = cpu() - c0;
     if (ps.on)
         fprintf(stderr, "\r%70s\r", "");
+    const int sig = ks_interrupted();
+    char reason[160] = "";
+    if (sig)
+        snprintf(reason, sizeof reason, "interrupted by %s at cycle %llu", ks_interrupt_name(sig),
+                 (unsigned long long)accel_top_cycles(top));
     rc = run_rc ? 1 : 0;
-    if (run_rc)
+    if (run_rc && !sig)
         fprintf(stderr, "rtsim: %s\n", err);
     if (!quiet) {
         printf("scene       %s, view %s, %ux%u, %s rays\n", sc.name, view->name, w, h,
                diffuse ? "diffuse" : occlusion ? "occlusion" : "primary");
         printf("BVH         %u nodes x %u B, %u triangles\n", img.nnodes, img.node_bytes, img.ntris);
+        if (sig)
+            printf("PARTIAL     %s: the figures cover the run until then\n", reason);
         accel_top_print_summary(top, stdout);
         printf("host        %.3f s CPU (%.3f s wall), %.2f M simulated cycles/s, %.0f K rays/s (CPU)\n", cpu_s, host_s,
                cpu_s > 0 ? (double)accel_top_cycles(top) / cpu_s / 1e6 : 0.0,
@@ -390,31 +413,47 @@ int main(int argc, char **argv)
     run.has_seed = diffuse, run.seed = seed;
     run.has_sim = true, run.sim_cpu_s = cpu_s, run.sim_wall_s = host_s;
     run.has_cycles = true, run.cycles = accel_top_cycles(top);
-    if (json && write_json(accel_top_stats(top), &run, json, err, sizeof err)) {
+    if (json && write_json(accel_top_stats(top), &run, outs[0].out, sig ? reason : NULL, err, sizeof err)) {
         fprintf(stderr, "rtsim: %s\n", err);
         rc = rc ? rc : 2;
     }
-    if (heatmap) {
+    if (heatmap && !sig) {   /* an image cannot say it is partial: none from a cut run */
         float lo, hi;
         rt_image_value_range(frame.pixel_cycles, (size_t)w * h, &lo, &hi);
-        if (!rt_image_write_heatmap(heatmap, frame.pixel_cycles, w, h, lo, hi, RT_COLORMAP_VIRIDIS, err, sizeof err)) {
-            fprintf(stderr, "rtsim: --heatmap %s\n", err);
+        const char *stage = ks_out_stage(outs[2].out, err, sizeof err);
+        if (!stage ||
+            !rt_image_write_heatmap(stage, frame.pixel_cycles, w, h, lo, hi, RT_COLORMAP_VIRIDIS, err, sizeof err) ||
+            ks_out_commit(outs[2].out, err, sizeof err)) {
+            fprintf(stderr, "rtsim: --heatmap %s: %s\n", heatmap, err);
+            ks_out_discard(outs[2].out);
             rc = rc ? rc : 2;
         }
     }
     if (autosize && run_rc == 0) {
-        if (accel_top_autosize(top, cfg, err, sizeof err) || rtcfg_write_ini(cfg, autosize, err, sizeof err)) {
+        FILE *af = NULL;
+        if (accel_top_autosize(top, cfg, err, sizeof err) || !(af = ks_out_begin(outs[3].out, err, sizeof err)) ||
+            (rtcfg_write_ini_file(cfg, af), ks_out_commit(outs[3].out, err, sizeof err))) {
             fprintf(stderr, "rtsim: --autosize-fifos %s\n", err);
+            ks_out_discard(outs[3].out);
             rc = rc ? rc : 2;
         } else if (!quiet) {
             printf("FIFOs       sized configuration written to %s\n", autosize);
         }
+    }
+    if (sig) {
+        /* autosizing from a cut run would size for part of the frame */
+        fflush(stdout);
+        fprintf(stderr, "rtsim: %s; %s%s%s%s\n", reason, vcd ? "the VCD ends there, " : "",
+                json ? "the JSON statistics are marked partial" : "statistics above are partial",
+                autosize ? ", no --autosize-fifos file written" : "", heatmap ? ", no heatmap written" : "");
+        rc = ks_interrupt_exit_status();
     }
     goto done;
 fail:
     fprintf(stderr, "rtsim: %s\n", err);
     rc = 2;
 done:
+    ks_out_discard_all();   /* outputs not committed (failure, interruption): no temporaries left */
     accel_top_destroy(top);
     rtsim_frame_free(&frame);
     rt_bvh_image_free(&img);

@@ -5,6 +5,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "kernel/out_file.h"
 #include "kernel/sim_internal.h"
 
 enum { VAR_BIT = 0, VAR_INT = 1, VAR_ENUM = 2 };
@@ -45,11 +46,11 @@ struct ks_vcd {
     unsigned cap_dirty;
     uint8_t header_done;
     /* private */
-    uint8_t started, ended, io_error;
+    uint8_t started, ended, io_error, discard;
     ks_sim *sim;
     FILE *f;
-    char *path, *tmp_path;
-    int direct;
+    char *path;
+    ks_out *out;               /* the output layer's plan (out_file.h) */
     ks_time ts_ps;
     char ts_str[24];
     ks_time begin, end;
@@ -696,16 +697,18 @@ ks_vcd *ks_vcd_open(ks_sim *sim, const char *path, const char *timescale, ks_tim
     d->now = &sim->now;
     d->cur_t = -1; /* no time stamp yet: every set goes through new_time */
     d->path = ks__xstrdup(path);
-    d->direct = strncmp(path, "/dev/", 5) == 0;
-    size_t pl = strlen(path);
-    d->tmp_path = ks__xmalloc(pl + 5);
-    memcpy(d->tmp_path, path, pl);
-    memcpy(d->tmp_path + pl, ".tmp", 5);
-    d->f = fopen(d->direct ? path : d->tmp_path, "wb");
+    /* the tool planned the path with its other outputs (checked, reserved
+     * before the run); a caller that did not gets a plan here */
+    char oerr[512];
+    d->out = ks_out_find(path, "--vcd");
+    if (!d->out)
+        d->out = ks_out_plan("VCD", path, oerr, sizeof oerr);
+    d->f = d->out ? ks_out_begin(d->out, oerr, sizeof oerr) : NULL;
     if (!d->f) {
-        ks__set_error(sim, "VCD %s: cannot create file", d->direct ? path : d->tmp_path);
+        ks__set_error(sim, "%s", oerr);
+        if (d->out)
+            ks_out_discard(d->out);
         free(d->path);
-        free(d->tmp_path);
         free(d);
         return NULL;
     }
@@ -760,23 +763,31 @@ void ks__vcd_finish(ks_vcd *d)
     flush_buf(d);
 }
 
+void ks_vcd_discard(ks_vcd *d)
+{
+    if (!d)
+        return;
+    d->discard = 1;
+    ks_vcd_close(d);
+}
+
 int ks_vcd_close(ks_vcd *d)
 {
     if (!d)
         return 0;
     ks_sim *sim = d->sim;
-    ks__vcd_finish(d);
+    if (!d->discard)
+        ks__vcd_finish(d);
     int rc = 0;
-    if (fclose(d->f) != 0)
-        d->io_error = 1;
-    if (d->io_error) {
-        ks__set_error(sim, "VCD %s: write error (disk full?)", d->direct ? d->path : d->tmp_path);
-        if (!d->direct)
-            remove(d->tmp_path);
+    char oerr[512];
+    if (d->discard) {
+        ks_out_discard(d->out);
+    } else if (d->io_error) {
+        ks__set_error(sim, "VCD %s: write error (disk full?)", d->path);
+        ks_out_discard(d->out);
         rc = -1;
-    } else if (!d->direct && rename(d->tmp_path, d->path) != 0) {
-        ks__set_error(sim, "VCD %s: cannot rename %s into place", d->path, d->tmp_path);
-        remove(d->tmp_path);
+    } else if (ks_out_commit(d->out, oerr, sizeof oerr) != 0) {
+        ks__set_error(sim, "%s", oerr);
         rc = -1;
     }
     for (size_t i = 0; i < sim->n_fifos; i++) {
@@ -797,7 +808,6 @@ int ks_vcd_close(ks_vcd *d)
     free(d->vars);
     free(d->buf);
     free(d->path);
-    free(d->tmp_path);
     free(d);
     return rc;
 }

@@ -18,10 +18,13 @@
  *    (the header is emitted then); later declarations return NULL.
  *  - While open, every FIFO and signal of the sim (existing or created
  *    later, before the header) is traced automatically.
- *  - Output is formatted by hand into one large buffer and written to
- *    "<path>.tmp", renamed to path by ks_vcd_close (paths under /dev/ are
- *    written directly). ks_vcd_close returns 0, or -1 on an I/O error
- *    (message in ks_sim_error). ks_sim_destroy closes a writer still open. */
+ *  - Output is formatted by hand into one large buffer and written through
+ *    the output layer (out_file.h): the plan a tool made for path before the
+ *    run, else one made here; a regular file is written to a temporary name
+ *    and renamed by ks_vcd_close, stdout, devices and pipes are written in
+ *    place. ks_vcd_close returns 0, or -1 on an I/O error (message in
+ *    ks_sim_error). ks_sim_destroy closes a writer still open. A writer
+ *    closed early (an interrupted run) ends at the last complete time step. */
 #ifndef KS_VCD_H
 #define KS_VCD_H
 
@@ -37,6 +40,9 @@ typedef struct ks_vcd_var ks_vcd_var;
 ks_vcd *ks_vcd_open(ks_sim *sim, const char *path, const char *timescale, ks_time window_begin,
                     ks_time window_end, const char *filter);
 int ks_vcd_close(ks_vcd *vcd);
+/* Closes without keeping the file (a run that never started): the
+ * temporary is removed; an in-place output keeps what was written. */
+void ks_vcd_discard(ks_vcd *vcd);
 /* The writer open on a sim, or NULL. */
 ks_vcd *ks_sim_vcd(const ks_sim *sim);
 

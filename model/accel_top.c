@@ -9,6 +9,7 @@
 
 #include "kernel/clock.h"
 #include "kernel/fifo.h"
+#include "kernel/interrupt.h"
 #include "kernel/vcd.h"
 #include "model/dram_port.h"
 #include "model/energy.h"
@@ -424,6 +425,12 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     }
     if (!(t->energy = build_energy_model(t, cfg, err, errlen)) || energy_register_stats(t->energy, t->stats, err, errlen))
         goto fail;
+    if (t->vcd && ks_vcd_var_count(t->vcd) == 0) {
+        /* a VCD without variables is of no use, and looked like a valid one */
+        snprintf(err, errlen, "--vcd-filter %s: matches none of the traced variables (globs on full dotted names, "
+                 "e.g. 'trv0.*,ist.*'; docs/accel.md)", opts->vcd_filter ? opts->vcd_filter : "");
+        goto fail;
+    }
     return t;
 fail:
     accel_top_destroy(t);
@@ -435,7 +442,7 @@ void accel_top_destroy(accel_top *t)
     if (!t)
         return;
     if (t->vcd)
-        ks_vcd_close(t->vcd);
+        ks_vcd_discard(t->vcd);   /* still open: the run never finished (accel_top_run closes it) */
     energy_model_destroy(t->energy);
     if (t->trv)
         for (uint32_t i = 0; i < t->p.trv_count; i++)
@@ -525,6 +532,15 @@ int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *er
         now_cycle = (uint64_t)(ks_sim_now(t->sim) / period);
         if (progress)
             progress(user, now_cycle, t->sched.completed, t->sched.admitted);
+        if (ks_interrupted()) {
+            /* Ctrl-C/SIGTERM (kernel/interrupt.h): stop between two slices,
+             * so the VCD ends at a complete time step */
+            snprintf(err, errlen, "interrupted by %s at cycle %llu", ks_interrupt_name(ks_interrupted()),
+                     (unsigned long long)now_cycle);
+            snprintf(t->failure, sizeof t->failure, "interrupted at cycle %llu", (unsigned long long)now_cycle);
+            rc = 1;
+            break;
+        }
         if (st == KS_RUN_DEADLOCK) {
             snprintf(err, errlen, "deadlock at cycle %llu:\n%s", (unsigned long long)now_cycle,
                      ks_sim_deadlock_report(t->sim));
@@ -566,7 +582,7 @@ int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *er
                  (unsigned long long)t->sched.failed);
         rc = 1;
     }
-    t->stat_failed = rc != 0;
+    t->stat_failed = rc != 0 && !ks_interrupted();   /* interrupted: partial, not failed */
     if (t->vcd) {
         if (ks_vcd_close(t->vcd) && rc == 0) {
             snprintf(err, errlen, "VCD: %s", ks_sim_error(t->sim));

@@ -9,6 +9,7 @@
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #ifndef RTSIM_DATA_DIR
@@ -538,6 +539,13 @@ int rtcfg_load(rtcfg *cfg, const char *what, char *err, size_t errlen)
     L.f = fopen(path, "r");
     if (!L.f)
         return rtcfg_errorf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+    /* a folder opens like a file on Linux and reads as empty: it was taken
+     * for an empty configuration, i.e. the default machine (issue 15) */
+    struct stat st;
+    if (fstat(fileno(L.f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(L.f);
+        return rtcfg_errorf(err, errlen, "%s: is a folder, not a machine configuration (.ini) file", path);
+    }
     int rc = ini_parse_stream(reader, &L, handler, &L);
     fclose(L.f);
     int result = 0;
@@ -708,14 +716,8 @@ const rtcfg_schema *rtcfg_schema_at(const rtcfg *cfg, int i)
 
 /* --------------------------------------------------------------- output */
 
-int rtcfg_write_ini(const rtcfg *cfg, const char *path, char *err, size_t errlen)
+void rtcfg_write_ini_file(const rtcfg *cfg, FILE *f)
 {
-    char tmp[1100];
-    if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp)
-        return rtcfg_errorf(err, errlen, "%s: path too long", path);
-    FILE *f = fopen(tmp, "w");
-    if (!f)
-        return rtcfg_errorf(err, errlen, "%s: cannot write: %s", tmp, strerror(errno));
     fprintf(f, "; rtsim machine configuration written by rtcfg_write_ini (every key, current values)\n");
     for (int i = 0; i < cfg->nschemas; i++) {
         bool seen = false;
@@ -739,6 +741,17 @@ int rtcfg_write_ini(const rtcfg *cfg, const char *path, char *err, size_t errlen
             }
         }
     }
+}
+
+int rtcfg_write_ini(const rtcfg *cfg, const char *path, char *err, size_t errlen)
+{
+    char tmp[1100];
+    if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp)
+        return rtcfg_errorf(err, errlen, "%s: path too long", path);
+    FILE *f = fopen(tmp, "w");
+    if (!f)
+        return rtcfg_errorf(err, errlen, "%s: cannot write: %s", tmp, strerror(errno));
+    rtcfg_write_ini_file(cfg, f);
     bool bad = ferror(f) != 0;
     if (fclose(f) != 0 || bad) {
         remove(tmp);

@@ -106,6 +106,8 @@ int rtcfg_set_int(rtcfg *cfg, const char *key, int64_t value, char *err, size_t 
 
 /* Writes all registered keys, by section, with descriptions as comments. */
 int rtcfg_write_ini(const rtcfg *cfg, const char *path, char *err, size_t errlen);
+/* The same text to an open stream (the tools write it through their output layer). */
+void rtcfg_write_ini_file(const rtcfg *cfg, FILE *f);
 
 /* Iteration over registered schemas (registration order). */
 int rtcfg_schema_count(const rtcfg *cfg);

@@ -6,6 +6,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 typedef struct pkey {
     const char *name;
@@ -86,6 +87,12 @@ int dram_power_spec_load(dram_power_spec *p, const char *path, char *err, size_t
     L.f = fopen(path, "r");
     if (!L.f) {
         snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+        return -1;
+    }
+    struct stat st;
+    if (fstat(fileno(L.f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(L.f);
+        snprintf(err, errlen, "%s: is a folder, not a DRAM power (.ini) file", path);
         return -1;
     }
     int rc = ini_parse_stream(preader, &L, phandler, &L);

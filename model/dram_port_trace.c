@@ -6,20 +6,18 @@
 
 #include "kernel/clock.h"
 #include "kernel/fifo.h"
+#include "kernel/interrupt.h"
 #include "kernel/sim.h"
 #include "model/dram_port.h"
+#include "model/dram_trace.h"
 
 typedef struct trace_run {
     ks_sim *sim;
     ks_fifo *req, *resp;
     dram_port *port;
     ks_clocked *prod;
-    FILE *f;
-    const char *name;
-    char *buf;
-    size_t cap;
-    long line;
-    int ended, failed;
+    dram_trace_reader rd;
+    int ended, failed, interrupted;
     uint32_t size;
     dram_trace_result *res;
     char *err;
@@ -33,27 +31,28 @@ static int produce(void *user, uint64_t cycle)
     trace_run *t = user;
     int made = 0;
     while (!t->ended && ks_fifo_can_write(t->req)) {
-        if (getline(&t->buf, &t->cap, t->f) < 0) {
+        if (ks_interrupted()) {
+            /* Ctrl-C/SIGTERM (kernel/interrupt.h): stop where the run is */
+            t->interrupted = 1;
+            t->ended = 1;
+            ks_sim_stop(t->sim);
+            break;
+        }
+        uint64_t addr;
+        int w;
+        const int k = dram_trace_next(&t->rd, &addr, &w, t->err, t->errlen);
+        if (k == 0) {
             t->ended = 1;
             dram_port_input_done(t->port);
             break;
         }
-        t->line++;
-        uint64_t addr;
-        int w;
-        const int k = dram_trace_parse_line(t->buf, &addr, &w);
-        if (k == 0)
-            continue;
         if (k < 0) {
-            size_t l = strcspn(t->buf, "\r\n");
-            snprintf(t->err, t->errlen, "%s:%ld: expected '0x<hex address> R|W', got '%.*s'", t->name, t->line,
-                     (int)(l > 60 ? 60 : l), t->buf);
             t->failed = 1;
             t->ended = 1;
             ks_sim_stop(t->sim);
             break;
         }
-        const dram_port_req r = {addr, (uint64_t)t->line, t->size, (uint8_t)w};
+        const dram_port_req r = {addr, (uint64_t)t->rd.line, t->size, (uint8_t)w};
         ks_fifo_write(t->req, &r);
         t->res->requests++;
         if (w)
@@ -80,7 +79,7 @@ int dram_port_trace_run(const dram_spec *spec, const dram_power_spec *power, FIL
                         dram_summary *sum, char *err, size_t errlen)
 {
     memset(res, 0, sizeof *res);
-    trace_run t = {.f = f, .name = name, .size = (uint32_t)spec->tx_bytes, .res = res, .err = err, .errlen = errlen};
+    trace_run t = {.rd = {.f = f, .name = name, .capacity = dram_spec_capacity_bytes(spec)}, .size = (uint32_t)spec->tx_bytes, .res = res, .err = err, .errlen = errlen};
     t.sim = ks_sim_create();
     /* 4 requests keep the port fed (it takes at most one per cycle); 64 responses
      * never fill between two consumer steps. Latency 0: the trace is there at once. */
@@ -105,6 +104,8 @@ int dram_port_trace_run(const dram_spec *spec, const dram_power_spec *power, FIL
         const ks_run_status st = ks_sim_run(t.sim, KS_TIME_MAX);
         if (t.failed) {
             rc = 2;
+        } else if (t.interrupted) {
+            rc = 3;
         } else if (st != KS_RUN_FINISHED || dram_port_outstanding(t.port) || !t.ended) {
             snprintf(err, errlen, "%s: kernel run ended '%s' with %llu requests outstanding: %.300s", name,
                      ks_run_status_name(st), (unsigned long long)dram_port_outstanding(t.port),
@@ -114,9 +115,9 @@ int dram_port_trace_run(const dram_spec *spec, const dram_power_spec *power, FIL
     } else {
         rc = 2;
     }
-    if (rc == 0)
+    if (rc == 0 || rc == 3)
         dram_summary_compute(dram_port_ctrl(t.port), power, sum);
-    free(t.buf);
+    free(t.rd.buf);
     dram_port_destroy(t.port);
     ks_sim_destroy(t.sim);
     return rc;

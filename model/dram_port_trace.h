@@ -5,7 +5,9 @@
  * response FIFO; at the end of the file the producer calls dram_port_input_done().
  * Contract: same trace format and errors as dram_trace_run (name:line), and the same
  * results — command stream, cycles, statistics — at the kernel's cost (tests:
- * tb_dram_port, tb_dram_cli.sh, tb_dram_ref.sh). rtdram --kernel uses it. */
+ * tb_dram_port, tb_dram_cli.sh, tb_dram_ref.sh). rtdram --kernel uses it. Returns
+ * 0, 1 (the kernel run did not finish the trace), 2 (bad trace, err names
+ * file:line) or 3 (interrupted, kernel/interrupt.h: sum holds the run so far). */
 #ifndef RTSIM_DRAM_PORT_TRACE_H
 #define RTSIM_DRAM_PORT_TRACE_H
 

@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 const char *const dram_cmd_name[DRAM_NCMD] = {"ACT", "PRE", "PREA", "RD", "WR", "REF"};
 const char *const dram_scope_name[DRAM_NSCOPE] = {"channel", "rank", "bank", "sibling"};
@@ -253,6 +254,21 @@ static const known known_keys[] = {
 };
 #define NKNOWN (int)(sizeof known_keys / sizeof known_keys[0])
 
+/* [timing] names of JEDEC latencies (JESD209-3 LPDDR3, Ramulator's LPDDR3.h
+ * speed table): each is a positive number of clocks, so 0 is refused (nCL
+ * or nBL = 0 ran as if data took no time; issue 15). Other names (nDQSCK,
+ * user-defined helpers) may be 0. */
+static int is_jedec_latency(const char *name)
+{
+    static const char *const names[] = {"nBL", "nCCD", "nCL", "nCWL", "nRCD", "nRP", "nRPpb", "nRPab",
+                                        "nRAS", "nRC", "nWR", "nRTP", "nWTR", "nRRD", "nFAW", "nRFC",
+                                        "nRFCab", "nRFCpb", "nREFI"};
+    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
+        if (!strcmp(name, names[i]))
+            return 1;
+    return 0;
+}
+
 static int is_pow2(int v) { return v > 0 && (v & (v - 1)) == 0; }
 
 /* The ranges of eval() calls below: [timing] 0..10000000, [constraints] 0..1000000. */
@@ -401,6 +417,13 @@ static int read_entries(loader *L, const char *path, const char *const *sets, co
         snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
         return -1;
     }
+    /* a folder reads as empty: it was reported as "missing key" (issue 15) */
+    struct stat st;
+    if (fstat(fileno(L->f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        fclose(L->f);
+        snprintf(err, errlen, "%s: is a folder, not a DRAM parameter (.ini) file", path);
+        return -1;
+    }
     int rc = ini_parse_stream(reader, L, handler, L);
     fclose(L->f);
     if (L->failed)
@@ -459,7 +482,7 @@ int dram_spec_load_from(dram_spec *spec, const char *path, const char *const *se
             return -1;
         }
         long v;
-        if (eval(&L, spec, spec->nparams, e, 0, 10000000, &v))
+        if (eval(&L, spec, spec->nparams, e, is_jedec_latency(k) ? 1 : 0, 10000000, &v))
             return -1;
         /* the precision states the length checked above (gcc -O0 cannot see it: -Wformat-truncation) */
         snprintf(spec->param_name[spec->nparams], DRAM_NAME_LEN, "%.*s", DRAM_NAME_LEN - 1, k);

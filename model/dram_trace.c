@@ -1,8 +1,11 @@
 /* dram_trace.c — trace reader and Ramulator-style injection loop (dram_trace.h). */
 #include "model/dram_trace.h"
 
+#include <errno.h>
 #include <stdlib.h>
 #include <string.h>
+
+#include "kernel/interrupt.h"
 
 int dram_trace_parse_line(const char *s, uint64_t *addr, int *is_write)
 {
@@ -45,27 +48,53 @@ int dram_trace_parse_line(const char *s, uint64_t *addr, int *is_write)
     return 1;
 }
 
-typedef struct reader {
-    FILE *f;
-    char *buf;
-    size_t cap;
-    long line;
-} reader;
+uint64_t dram_spec_capacity_bytes(const dram_spec *spec)
+{
+    /* columns count DQ-wide words (docs/dram.md, [organization]) */
+    return (uint64_t)spec->channels * (uint64_t)spec->ranks * (uint64_t)spec->banks * (uint64_t)spec->rows *
+           (uint64_t)spec->columns * (uint64_t)spec->dq_bits / 8;
+}
 
-/* 1 request, 0 end of file, -1 malformed */
-static int next_request(reader *r, uint64_t *addr, int *w, const char *name, char *err, size_t errlen)
+int dram_trace_next(dram_trace_reader *r, uint64_t *addr, int *w, char *err, size_t errlen)
 {
     for (;;) {
+        errno = 0;
         ssize_t n = getline(&r->buf, &r->cap, r->f);
-        if (n < 0)
+        if (n < 0) {
+            if (ferror(r->f)) {
+                /* a folder opens like a file and fails here (EISDIR): it was
+                 * taken for an empty trace */
+                snprintf(err, errlen, "%s: cannot read: %s", r->name,
+                         errno == EISDIR ? "is a folder, not a trace file" : strerror(errno ? errno : EIO));
+                return -1;
+            }
+            if (r->requests == 0) {
+                snprintf(err, errlen, "%s: no requests (expected lines '0x<hex address> R|W')", r->name);
+                return -1;
+            }
             return 0;
+        }
         r->line++;
-        int k = dram_trace_parse_line(r->buf, addr, w);
-        if (k == 1)
+        int k = (size_t)n == strlen(r->buf) ? dram_trace_parse_line(r->buf, addr, w) : -2;
+        if (k == 1 && r->capacity && *addr >= r->capacity) {
+            snprintf(err, errlen,
+                     "%s:%ld: address 0x%llx beyond the device's capacity of %llu bytes (allowed 0x0..0x%llx; "
+                     "[organization] channels x ranks x banks x rows x columns x dq_bits/8)",
+                     r->name, r->line, (unsigned long long)*addr, (unsigned long long)r->capacity,
+                     (unsigned long long)(r->capacity - 1));
+            return -1;
+        }
+        if (k == 1) {
+            r->requests++;
             return 1;
+        }
+        if (k == -2) {
+            snprintf(err, errlen, "%s:%ld: NUL byte in the line (not a text trace)", r->name, r->line);
+            return -1;
+        }
         if (k < 0) {
             size_t l = strcspn(r->buf, "\r\n");
-            snprintf(err, errlen, "%s:%ld: expected '0x<hex address> R|W', got '%.*s'", name, r->line,
+            snprintf(err, errlen, "%s:%ld: expected '0x<hex address> R|W', got '%.*s'", r->name, r->line,
                      (int)(l > 60 ? 60 : l), r->buf);
             return -1;
         }
@@ -75,17 +104,23 @@ static int next_request(reader *r, uint64_t *addr, int *w, const char *name, cha
 int dram_trace_run(dram_ctrl *c, FILE *f, const char *name, dram_trace_result *res, char *err, size_t errlen)
 {
     memset(res, 0, sizeof *res);
-    reader r = {.f = f};
+    dram_trace_reader r = {.f = f, .name = name, .capacity = dram_spec_capacity_bytes(dram_ctrl_spec(c))};
     int stall = 0, end = 0, is_write = 0;
     uint64_t addr = 0;
     while (!end || dram_pending(c)) {
         if (!end && !stall) {
-            int k = next_request(&r, &addr, &is_write, name, err, errlen);
+            int k = dram_trace_next(&r, &addr, &is_write, err, errlen);
             if (k < 0) {
                 free(r.buf);
                 return 2;
             }
             end = k == 0;
+        }
+        if (ks_interrupted() && !end) {
+            /* Ctrl-C/SIGTERM (kernel/interrupt.h): stop injecting, leave the
+             * statistics of what ran */
+            free(r.buf);
+            return 3;
         }
         if (!end) {
             stall = !dram_add(c, addr, is_write, (uint64_t)r.line);

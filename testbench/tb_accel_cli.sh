@@ -49,7 +49,7 @@ expect accel_cli_json_folder_missing 2 "folder $tmp/missing does not exist" -- "
 expect accel_cli_vcd_is_folder 2 "is a folder" -- "$bin" interior --res 8x4 --vcd "$tmp"
 # a path past PATH_MAX whose cut folder exists ($tmp/./././...) passed the check
 long_path="$tmp/$(printf './%.0s' $(seq 2100))out.json"
-expect accel_cli_json_path_too_long 2 "path longer than 4079 characters" -- "$bin" interior --res 8x4 --json "$long_path"
+expect accel_cli_json_path_too_long 2 "path longer than 4039 characters" -- "$bin" interior --res 8x4 --json "$long_path"
 expect accel_cli_unknown_key 2 "trv.nosuch" -- "$bin" "${small[@]}" --set trv.nosuch=3
 expect accel_cli_key_range 2 "allowed 1..64" -- "$bin" "${small[@]}" --set trv.count=0
 expect accel_cli_key_type 2 "trv.slots" -- "$bin" "${small[@]}" --set trv.slots=many

@@ -344,10 +344,10 @@ static bool check_fits(ply *p, const element *e)
     uint64_t rest = p->len - p->pos;
     if (min && e->count > rest / min) {
         rt_scene_errorf(p->err, p->errlen,
-                        "%s: element %s declares %llu entries needing at least %llu bytes, but only "
+                        "%s: element %s declares %llu entries of at least %llu bytes each, but only "
                         "%llu bytes of data remain (file truncated or count wrong)",
-                        p->file, e->name, (unsigned long long)e->count,
-                        (unsigned long long)(e->count * min), (unsigned long long)rest);
+                        p->file, e->name, (unsigned long long)e->count, (unsigned long long)min,
+                        (unsigned long long)rest);
         return false;
     }
     return true;

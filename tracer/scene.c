@@ -53,6 +53,55 @@ static void base_name(const char *path, char *out, size_t n)
     snprintf(out, n, "%.*s", (int)n - 1, slash ? slash + 1 : path);
 }
 
+/* The largest coordinate magnitude a scene may use (docs/tracer-io.md,
+ * "Coordinate range"). A ray-triangle test multiplies three differences of
+ * coordinates (Embree's: the triple products of the vertices relative to
+ * the ray origin; ours: the plane distance n.A, n ~ extent^2); in float that
+ * stays finite while the differences stay below cbrt(FLT_MAX) = 6.98e12.
+ * Vertices are kept within 1e12 and view points within 5e12 (the auto view
+ * of a scene at the vertex limit sits at most 4.3e12 from the origin: 2.2
+ * scene radii from its centre), so a vertex-to-camera difference stays
+ * below 6e12 and every product finite. Beyond it hits were lost silently
+ * (1e38) and Embree overflowed (1e15: mismatches "other"). */
+#define RT_COORD_MAX 1e12
+#define RT_VIEW_COORD_MAX 5e12
+
+static bool check_coord(const char *what, const char *name, rt_vec3 p, double limit, char *err, size_t errlen)
+{
+    const float c[3] = {p.x, p.y, p.z};
+    for (int a = 0; a < 3; a++)
+        if (!(fabsf(c[a]) <= (float)limit)) {
+            rt_scene_errorf(err, errlen,
+                            "%s: %s coordinate %g beyond the supported range -%g..%g (float ray-triangle "
+                            "arithmetic overflows past it; scale the scene down)",
+                            name, what, (double)c[a], limit, limit);
+            return false;
+        }
+    return true;
+}
+
+/* Every vertex within +-RT_COORD_MAX, every view point within +-RT_VIEW_COORD_MAX. */
+static bool check_range(const rt_mesh *m, const rt_views *vs, const char *name, char *err, size_t errlen)
+{
+    if (m->nverts) {
+        rt_vec3 lo, hi;
+        rt_mesh_bounds(m, &lo, &hi);
+        if (!check_coord("vertex", name, lo, RT_COORD_MAX, err, errlen) ||
+            !check_coord("vertex", name, hi, RT_COORD_MAX, err, errlen))
+            return false;
+    }
+    for (uint32_t i = 0; vs && i < vs->n; i++) {
+        char what[96];
+        snprintf(what, sizeof what, "view '%.64s' eye", vs->v[i].name);
+        if (!check_coord(what, name, vs->v[i].eye, RT_VIEW_COORD_MAX, err, errlen))
+            return false;
+        snprintf(what, sizeof what, "view '%.64s' at", vs->v[i].name);
+        if (!check_coord(what, name, vs->v[i].at, RT_VIEW_COORD_MAX, err, errlen))
+            return false;
+    }
+    return true;
+}
+
 /* One view framing the bounding sphere from the +Z side, slightly above,
  * for meshes that come without views (60 degrees, fits the sphere at 16:9). */
 static bool auto_view(const rt_mesh *m, rt_views *vs, char *err, size_t errlen)
@@ -90,7 +139,7 @@ static bool load_geometry(const char *what, rt_scene *s, char *err, size_t errle
         rt_scene_errorf(err, errlen, "unknown scene '%s'; allowed " SCENE_ALLOWED, what);
         return false;
     }
-    if (!rt_mesh_load(what, &s->mesh, err, errlen))
+    if (!rt_mesh_load(what, &s->mesh, err, errlen) || !check_range(&s->mesh, NULL, what, err, errlen))
         return false;
     base_name(what, s->name, sizeof s->name);
     char vpath[4096];
@@ -237,6 +286,8 @@ bool rt_scene_load(const char *scene, rt_scene *out, char *err, size_t errlen)
     } else {
         ok = load_geometry(scene, out, err, errlen);
     }
+    if (ok)
+        ok = check_range(&out->mesh, &out->views, scene, err, errlen);
     if (ok && out->views.n == 0)
         ok = auto_view(&out->mesh, &out->views, err, errlen);
     if (!ok)
@@ -249,6 +300,10 @@ bool rt_scene_set_views_file(rt_scene *s, const char *path, char *err, size_t er
     rt_views vs;
     if (!rt_views_load(path, &vs, err, errlen))
         return false;
+    if (!check_range(&s->mesh, &vs, path, err, errlen)) {
+        rt_views_free(&vs);
+        return false;
+    }
     rt_views_free(&s->views);
     s->views = vs;
     return true;

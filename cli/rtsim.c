@@ -98,9 +98,18 @@ static int help_module(const char *name)
         ks_module_desc_print(d, stdout);
         found = 1;
     }
+    /* the defaults and ranges of a module's keys are the schema's (written
+     * once, in model/accel_config.c and model/memsys_config.c); the module
+     * table only names them */
+    static const char *const module_sections[][4] = {
+        {"cache", "node_l1", "node_l2", "prim"}, {"fixed_mem", "memory", NULL, NULL}};
     for (int i = 0; i < rtcfg_schema_count(cfg); i++) {
         const rtcfg_schema *s = rtcfg_schema_at(cfg, i);
-        if (!strcmp(s->section, name)) {
+        bool match = !strcmp(s->section, name);
+        for (size_t m = 0; m < sizeof module_sections / sizeof module_sections[0]; m++)
+            for (int k = 1; k < 4 && !strcmp(module_sections[m][0], name); k++)
+                match |= module_sections[m][k] && !strcmp(module_sections[m][k], s->section);
+        if (match) {
             if (found)
                 printf("\n");
             printf("Configuration keys [%s]:\n", s->section);

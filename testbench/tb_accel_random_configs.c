@@ -32,7 +32,7 @@
  * and a configuration whose host memory estimate (ray stacks, cache tags,
  * FIFO storage) exceeds a budget is drawn again (counted as "redrawn").
  *
- * Counts: RTSIM_RANDOM_CONFIGS (default 40; 12 in a sanitizer build) — `make
+ * Counts: RTSIM_RANDOM_CONFIGS (default 100; 16 in a sanitizer build) — `make
  * soak` runs thousands. Summary line: INFO configurations, runs, refused
  * (with the keys named), finished, rays compared. */
 #include <math.h>
@@ -535,7 +535,7 @@ out:
 int main(void)
 {
     const char *e = getenv("RTSIM_RANDOM_CONFIGS");
-    unsigned count = e && *e ? (unsigned)strtoul(e, NULL, 10) : (tb_is_sanitized() ? 12u : 40u);
+    unsigned count = e && *e ? (unsigned)strtoul(e, NULL, 10) : (tb_is_sanitized() ? 16u : 100u);
     e = getenv("RTSIM_CONFIG_SEED");
     rng_state = e && *e ? strtoull(e, NULL, 10) : 1;
     double budget = tb_is_sanitized() ? 48e6 : 160e6;

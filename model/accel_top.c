@@ -449,6 +449,7 @@ uint64_t accel_top_rays(const accel_top *t) { return t->rays_done; }
 double accel_top_mrps(const accel_top *t) { return t->mrps; }
 ks_stats *accel_top_stats(accel_top *t) { return t->stats; }
 const accel_params *accel_top_params(const accel_top *t) { return &t->p; }
+uint64_t accel_top_guard_cycle(const accel_top *t) { return t->guard_cycle; }
 
 void accel_top_print_summary(accel_top *t, FILE *out)
 {

@@ -62,6 +62,7 @@ uint64_t accel_top_rays(const accel_top *t);       /* rays completed */
 double accel_top_mrps(const accel_top *t);         /* rays / simulated second / 1e6 at the machine clock */
 ks_stats *accel_top_stats(accel_top *t);           /* every statistic */
 const accel_params *accel_top_params(const accel_top *t);
+uint64_t accel_top_guard_cycle(const accel_top *t); /* where the livelock guard engaged, 0: never */
 /* Writes the human-readable summary: cycles, MRPS, per-unit utilization,
  * cache hit rates, DRAM traffic and bandwidth, rays in flight. */
 void accel_top_print_summary(accel_top *t, FILE *out);

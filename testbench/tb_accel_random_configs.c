@@ -402,7 +402,7 @@ static void on_complete(void *user, uint32_t uid, const rt_ray *ray, const rt_hi
 static bool same_float(float a, float b) { return memcmp(&a, &b, sizeof a) == 0; }
 
 typedef struct totals {
-    uint64_t configs, runs, refused_finish, refused_create, finished, overflow_runs, rays, redrawn;
+    uint64_t configs, runs, refused_finish, refused_create, finished, overflow_runs, guarded, rays, redrawn;
 } totals;
 
 /* Does msg name a registered key ("section.name")? */
@@ -498,6 +498,7 @@ static void run_one(const drawn_config *c, unsigned index, scene_slot *s, bool d
     }
     tot->finished++;
     tot->overflow_runs += overflow;
+    tot->guarded += accel_top_guard_cycle(top) != 0;
     TB_CHECK(!log.oom, "out of memory in the log");
     TB_EQ_INT(log.n, accel_top_rays(top));
     /* every ray against the reference traversal with the same stack */
@@ -590,9 +591,10 @@ int main(void)
     free(scenes);
     printf("INFO random configurations: %llu drawn (%llu redrawn over the host memory budget), %llu runs: %llu refused "
            "by the validator, %llu refused at start-up, %llu finished (%llu with stack overflows matching the "
-           "reference), %llu rays compared\n",
+           "reference, %llu with the livelock guard engaged), %llu rays compared\n",
            (unsigned long long)tot.configs, (unsigned long long)tot.redrawn, (unsigned long long)tot.runs,
            (unsigned long long)tot.refused_finish, (unsigned long long)tot.refused_create,
-           (unsigned long long)tot.finished, (unsigned long long)tot.overflow_runs, (unsigned long long)tot.rays);
+           (unsigned long long)tot.finished, (unsigned long long)tot.overflow_runs, (unsigned long long)tot.guarded,
+           (unsigned long long)tot.rays);
     return tb_finish();
 }

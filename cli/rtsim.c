@@ -16,6 +16,7 @@
 #include <time.h>
 #include <unistd.h>
 
+#include "cli/rtsim_estimate.h"
 #include "cli/rtsim_frame.h"
 #include "kernel/stats.h"
 #include "model/accel_config.h"
@@ -37,7 +38,7 @@ static void usage(FILE *out)
             "             [--rays primary|diffuse|occlusion] [--res WxH] [--bounces N] [--seed N]\n"
             "             [--set KEY=VALUE]... [--json FILE] [--vcd FILE] [--vcd-window A:B]\n"
             "             [--vcd-filter GLOB] [--heatmap FILE] [--autosize-fifos OUT.ini]\n"
-            "             [--help-module NAME] [--quiet] [--exhaustive] [--help] [--version]\n"
+            "             [--help-module NAME] [--quiet] [--progress] [--exhaustive] [--help] [--version]\n"
             "SCENE: a built-in scene (interior, hairball, city, forest; default interior) or an\n"
             "       .obj/.ply(.gz)/.scene file. Defaults: 1280x720, mbvh4, primary rays,\n"
             "       4 bounces, seed 1. Occlusion rays: 4 ambient-occlusion rays per primary hit.\n"
@@ -50,6 +51,10 @@ static void usage(FILE *out)
             "--autosize-fifos F  run, then write the machine with every FIFO shrunk to the\n"
             "                    first power of two above its maximum occupancy (paper sec. 3)\n"
             "--exhaustive        step every unit every cycle (no idle skipping; reference mode)\n"
+            "--progress          print the run-time estimate first and, when stderr is not a\n"
+            "                    terminal, a progress line every few seconds (a terminal\n"
+            "                    gets a progress bar anyway); runs estimated to take more\n"
+            "                    than a minute print the estimate in any case\n"
 "--help-module NAME  parameters, ports and statistics of a module (trv, ist, sched,\n"
             "                    cache, arbiter, fixed_mem, dram, ...) and the keys of its\n"
             "                    configuration section (node_l1, node_l2, prim, memory, fifo, machine,\n"
@@ -108,9 +113,18 @@ static int help_module(const char *name)
         ks_module_desc_print(d, stdout);
         found = 1;
     }
+    /* the defaults and ranges of a module's keys are the schema's (written
+     * once, in model/accel_config.c and model/memsys_config.c); the module
+     * table only names them */
+    static const char *const module_sections[][4] = {
+        {"cache", "node_l1", "node_l2", "prim"}, {"fixed_mem", "memory", NULL, NULL}};
     for (int i = 0; i < rtcfg_schema_count(cfg); i++) {
         const rtcfg_schema *s = rtcfg_schema_at(cfg, i);
-        if (!strcmp(s->section, name)) {
+        bool match = !strcmp(s->section, name);
+        for (size_t m = 0; m < sizeof module_sections / sizeof module_sections[0]; m++)
+            for (int k = 1; k < 4 && !strcmp(module_sections[m][0], name); k++)
+                match |= module_sections[m][k] && !strcmp(module_sections[m][k], s->section);
+        if (match) {
             if (found)
                 printf("\n");
             printf("Configuration keys [%s]:\n", s->section);
@@ -129,7 +143,9 @@ static int help_module(const char *name)
 }
 
 typedef struct progress_state {
-    bool on;
+    bool on;                      /* a progress bar (stderr is a terminal) */
+    bool lines;                   /* --progress with stderr not a terminal: a line every `every` s */
+    double every, last, est_cycles;
     uint64_t total;               /* primary rays */
     double t0;
     const accel_source *src;
@@ -153,6 +169,19 @@ static double cpu(void)
 static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admitted)
 {
     progress_state *p = user;
+    if (p->lines) {
+        double now = wall();
+        if (now - p->last >= p->every) {
+            p->last = now;
+            fprintf(stderr, "rtsim: progress: cycle %llu (~%.0f%% of the estimate), %llu rays done, %llu/%llu "
+                            "primaries admitted, %.0f s\n",
+                    (unsigned long long)cycle, p->est_cycles > 0 ? 100.0 * (double)cycle / p->est_cycles : 0.0,
+                    (unsigned long long)done, (unsigned long long)(admitted < p->total ? admitted : p->total),
+                    (unsigned long long)p->total, now - p->t0);
+            fflush(stderr);
+        }
+        return;
+    }
     if (!p->on)
         return;
     (void)done;
@@ -230,14 +259,14 @@ int main(int argc, char **argv)
     const char *scene_name = "interior", *view_name = NULL, *views_file = NULL, *machine = "mbvh4";
     const char *json = NULL, *vcd = NULL, *vcd_filter = NULL, *heatmap = NULL, *autosize = NULL;
     const char *res = "1280x720";
-    bool diffuse = false, occlusion = false, quiet = false, exhaustive = false;
+    bool diffuse = false, occlusion = false, quiet = false, exhaustive = false, progress = false;
     uint64_t bounces = 4, seed = 1, vcd_a = 0, vcd_b = 0;
     const char **sets = calloc((size_t)argc, sizeof *sets);
     int nsets = 0;
     bool vcd_window = false;
     ks_interrupt_install("rtsim");
     enum { O_VIEW = 256, O_VIEWS, O_MACHINE, O_RAYS, O_RES, O_BOUNCES, O_SEED, O_SET, O_JSON, O_VCD, O_VCDW, O_VCDF,
-           O_HEAT, O_AUTO, O_HELPMOD, O_QUIET, O_EXHAUSTIVE, O_HELP, O_VERSION };
+           O_HEAT, O_AUTO, O_HELPMOD, O_QUIET, O_EXHAUSTIVE, O_HELP, O_VERSION, O_PROGRESS };
     static const struct option opts[] = {
         {"view", required_argument, 0, O_VIEW},        {"views", required_argument, 0, O_VIEWS},
         {"machine", required_argument, 0, O_MACHINE},  {"rays", required_argument, 0, O_RAYS},
@@ -248,6 +277,7 @@ int main(int argc, char **argv)
         {"heatmap", required_argument, 0, O_HEAT},     {"autosize-fifos", required_argument, 0, O_AUTO},
         {"help-module", required_argument, 0, O_HELPMOD}, {"quiet", no_argument, 0, O_QUIET}, {"exhaustive", no_argument, 0, O_EXHAUSTIVE},
         {"help", no_argument, 0, O_HELP},              {"version", no_argument, 0, O_VERSION},
+        {"progress", no_argument, 0, O_PROGRESS},
         {0, 0, 0, 0}};
     if (!sets)
         return 2;
@@ -294,6 +324,7 @@ int main(int argc, char **argv)
         case O_HELPMOD: free(sets); return help_module(optarg);
         case O_QUIET: quiet = true; break;
         case O_EXHAUSTIVE: exhaustive = true; break;
+        case O_PROGRESS: progress = true; break;
         case O_HELP: usage(stdout); free(sets); return 0;
         case O_VERSION: printf("rtsim %s (git %s)\n", RTSIM_VERSION, RTSIM_GIT); free(sets); return 0;
         case '?':
@@ -377,7 +408,33 @@ int main(int argc, char **argv)
     top = accel_top_create(cfg, &aimg, &src, &o, err, sizeof err);
     if (!top)
         goto fail;
-    progress_state ps = {!quiet && isatty(2), src.primary_count, wall(), &src};
+    progress_state ps = {!quiet && isatty(2), false, 0, 0, 0, src.primary_count, wall(), &src};
+    {
+        /* the estimate: said before a long run starts, and with --progress */
+        rtsim_estimate_params ep;
+        char eerr[1200];
+        if (!rtsim_estimate_load(&ep, eerr, sizeof eerr)) {
+            fprintf(stderr, "rtsim: warning: no run-time estimate: %s\n", eerr);
+        } else {
+            rt_trv_params tp;
+            rt_trv_params_default(&tp, img.width);
+            tp.stack_depth = (int)accel_top_params(top)->trv.core.stack_depth;
+            tp.distance_cull = accel_top_params(top)->trv.core.distance_cull;
+            rtsim_estimate est;
+            rtsim_estimate_frame(&ep, &frame, &img, &tp, accel_top_params(top)->trv_count, exhaustive, &est);
+            if (progress || est.host_s >= ep.announce_s) {
+                char d[32];
+                rtsim_estimate_duration(est.host_s, d, sizeof d);
+                fprintf(stderr, "rtsim: estimate: ~%.0f rays, ~%.3g simulated cycles, ~%s of host time (%s%s)%s\n",
+                        est.rays, est.cycles, d, diffuse ? "diffuse" : "primary", exhaustive ? ", exhaustive" : "",
+                        est.host_s >= ep.announce_s && !progress ? "; --progress prints progress lines" : "");
+            }
+            ps.lines = progress && !isatty(2);
+            ps.every = ep.progress_s;
+            ps.last = ps.t0;
+            ps.est_cycles = est.cycles;
+        }
+    }
     double t0 = wall(), c0 = cpu();
     ks_interrupt_polling(true);   /* accel_top_run checks ks_interrupted() every slice */
     int run_rc = accel_top_run(top, progress_cb, &ps, err, sizeof err);

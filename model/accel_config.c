@@ -6,6 +6,10 @@
 
 #include <string.h>
 
+#include "model/memsys_config.h"
+#include "model/sort_net.h"
+#include "tracer/bvh_layout.h"
+
 static const rtcfg_param trv_params_tab[] = {
     {"count", RTCFG_INT, "4", 1, 64, 0, NULL, "units", "TRV units per IST (paper sec. 3: 4)"},
     {"slots", RTCFG_INT, "32", 1, 1024, 0, NULL, "rays", "ray slots = stacks per TRV (paper sec. 3: 32)"},
@@ -35,7 +39,8 @@ static const rtcfg_param sched_params_tab[] = {
     {"shade_latency", RTCFG_INT, "0", 0, 1000000, 0, NULL, "cycles",
      "completion to bounce-ray ready: shading outside the accelerator (ours)"},
     {"watchdog_cycles", RTCFG_INT, "2000000", 0, 1e12, 0, NULL, "cycles",
-     "stop with a report when no ray completes for this long (0 = off)"},
+     "stop with a report when no work is done (no node visit, triangle test or completed ray) for this long "
+     "plus the machine's longest wait (docs/accel.md); 0 = off"},
 };
 const rtcfg_schema accel_schema_sched = {"sched", "ray scheduler", sched_params_tab, 3, NULL};
 
@@ -49,7 +54,8 @@ static const rtcfg_param fifo_params_tab[] = {
     FIFO_PARAM("ray_ist_loop", "IST exit -> IST issue (next chance after a miss)"),
     {"ray_latency", RTCFG_INT, "1", 1, 1000, 0, NULL, "cycles", "latency of the ray-side FIFOs between units"},
 };
-const rtcfg_schema accel_schema_fifo = {"fifo", "ray-side FIFOs", fifo_params_tab, 7, NULL};
+static int check_ray_side(const rtcfg *cfg, char *err, size_t errlen);
+const rtcfg_schema accel_schema_fifo = {"fifo", "ray-side FIFOs", fifo_params_tab, 7, check_ray_side};
 
 static const char *const fifo_keys[] = {"fifo.ray_new",      "fifo.ray_leaf",     "fifo.ray_return",
                                         "fifo.ray_done",     "fifo.ray_trv_loop", "fifo.ray_ist_loop"};
@@ -104,4 +110,102 @@ void accel_params_get(const rtcfg *cfg, accel_params *o)
     o->fifo_ist_loop = I("fifo.ray_ist_loop");
     o->fifo_latency = I("fifo.ray_latency");
 #undef I
+}
+
+/* ------------------------------------------------ deadlock-free minima
+ * Why these bounds (docs/accel.md, "Machines that cannot run"): a TRV's
+ * pipeline holds at most P = depth rays (one per stage, trv.h), and a TRV
+ * owns at most trv.slots rays wherever they are (scheduler.h).
+ *  - TRV loop: the exit stage waits for the loop FIFO and the issue stage
+ *    waits for the pipeline, so the TRV deadlocks exactly when its pipeline
+ *    is full, its head goes round the loop and the loop is full: P + loop
+ *    rays of one TRV. With loop >= slots - P + 1 that many rays never exist.
+ *  - Leaf + return: the TRV-IST cycle stops when a TRV's pipeline is full
+ *    with its head bound for the IST, its leaf FIFO is full, the IST's
+ *    pipeline head is one of its rays waiting for its full return FIFO: P +
+ *    leaf + return + 1 rays of one TRV. With leaf + return >= slots - P it
+ *    cannot happen.
+ *  - IST loop: the IST takes a new ray only when no looping ray is ready, so
+ *    it never holds more than its pipeline + 1 rays, one fewer than a full
+ *    pipeline, a full loop and a ray at issue: any capacity >= 1 is safe.
+ *  - new, done: the scheduler writes new rays only into free room and reads
+ *    every done FIFO every cycle, so neither is part of a cycle of waits.
+ * The memory side is covered in docs/accel.md (fills are always drained). */
+
+uint32_t accel_trv_depth_of(const rtcfg *cfg)
+{
+    const sort_net *net = sort_net_get((int)rtcfg_int(cfg, "machine.branching"));
+    uint32_t fetch = rtcfg_has(cfg, "node_l1.hit_latency") ? (uint32_t)rtcfg_int(cfg, "node_l1.hit_latency") : 1;
+    return fetch + (uint32_t)rtcfg_int(cfg, "trv.stages_box") + (net ? (uint32_t)net->layers : 0) +
+           (uint32_t)rtcfg_int(cfg, "trv.stages_stack") + (uint32_t)rtcfg_int(cfg, "trv.stages_next");
+}
+
+uint32_t accel_fifo_min(const rtcfg *cfg, unsigned i)
+{
+    uint32_t slots = (uint32_t)rtcfg_int(cfg, "trv.slots"), depth = accel_trv_depth_of(cfg);
+    if (i == 4)   /* ray_trv_loop */
+        return slots >= depth ? slots - depth + 1 : 1;
+    return 1;
+}
+
+uint32_t accel_leaf_return_min(const rtcfg *cfg)
+{
+    uint32_t slots = (uint32_t)rtcfg_int(cfg, "trv.slots"), depth = accel_trv_depth_of(cfg);
+    return slots > depth + 2 ? slots - depth : 2;
+}
+
+static int check_ray_side(const rtcfg *cfg, char *err, size_t errlen)
+{
+    if (!rtcfg_has(cfg, "trv.slots"))
+        return 0;
+    uint32_t slots = (uint32_t)rtcfg_int(cfg, "trv.slots"), depth = accel_trv_depth_of(cfg);
+    int64_t loop = rtcfg_int(cfg, "fifo.ray_trv_loop");
+    uint32_t loop_min = accel_fifo_min(cfg, 4);
+    if (loop < loop_min)
+        return rtcfg_errorf(err, errlen,
+                            "fifo.ray_trv_loop = %lld (%s) can deadlock a TRV: with trv.slots = %u and a %u-stage "
+                            "pipeline it must be >= trv.slots - stages + 1 = %u (allowed %u..65536; stages = "
+                            "node_l1.hit_latency + trv.stages_box + sort layers + trv.stages_stack + trv.stages_next)",
+                            (long long)loop, rtcfg_source(cfg, "fifo.ray_trv_loop"), slots, depth, loop_min, loop_min);
+    /* Caches that rays wait on: a probe is all-or-nothing (cache.h), so a
+     * waiting ray needs every line of its node (triangle) present at once.
+     * When the cache cannot hold the lines of every ray that may wait on it
+     * at the same time, the rays' fills evict each other's lines for ever
+     * (found by tb_accel_random_configs: an 8-line node L1, 7-line nodes, 3
+     * rays). Waiting on a node L1: the rays of its TRV (trv.slots); on the
+     * primitive cache: the rays the IST holds, at most its test pipeline + 1
+     * (accel_config.c, IST loop). */
+    if (rtcfg_has(cfg, "node_l1.size")) {
+        int64_t line = rtcfg_int(cfg, "node_l1.line");
+        int64_t lines = memsys_lines_touched(RT_SLOT_BYTES * rtcfg_int(cfg, "machine.branching"), line);
+        int64_t need = (int64_t)slots * lines;
+        if (rtcfg_int(cfg, "node_l1.size") / line < need)
+            return rtcfg_errorf(err, errlen,
+                                "node_l1.size = %lld holds %lld lines, but the trv.slots = %u rays of a TRV may each "
+                                "wait for a node of up to %lld lines of node_l1.line = %lld B: node_l1.size must be >= "
+                                "%lld (or lower trv.slots)",
+                                (long long)rtcfg_int(cfg, "node_l1.size"), (long long)(rtcfg_int(cfg, "node_l1.size") / line),
+                                slots, (long long)lines, (long long)line, (long long)(need * line));
+    }
+    if (rtcfg_has(cfg, "prim.size")) {
+        int64_t line = rtcfg_int(cfg, "prim.line");
+        int64_t lines = memsys_lines_touched(RT_TRI_BYTES, line);
+        int64_t rays = rtcfg_int(cfg, "ist.latency") + rtcfg_int(cfg, "prim.hit_latency") + 2;
+        int64_t need = rays * lines;
+        if (rtcfg_int(cfg, "prim.size") / line < need)
+            return rtcfg_errorf(err, errlen,
+                                "prim.size = %lld holds %lld lines, but the %lld rays the IST may hold (ist.latency + "
+                                "prim.hit_latency + 2) may each wait for a triangle of up to %lld lines of prim.line = "
+                                "%lld B: prim.size must be >= %lld",
+                                (long long)rtcfg_int(cfg, "prim.size"), (long long)(rtcfg_int(cfg, "prim.size") / line),
+                                (long long)rays, (long long)lines, (long long)line, (long long)(need * line));
+    }
+    int64_t leaf = rtcfg_int(cfg, "fifo.ray_leaf"), ret = rtcfg_int(cfg, "fifo.ray_return");
+    uint32_t lr_min = accel_leaf_return_min(cfg);
+    if (leaf + ret < lr_min)
+        return rtcfg_errorf(err, errlen,
+                            "fifo.ray_leaf + fifo.ray_return = %lld + %lld can deadlock the TRV-IST loop: with "
+                            "trv.slots = %u and a %u-stage TRV pipeline their sum must be >= %u (each 1..65536)",
+                            (long long)leaf, (long long)ret, slots, depth, lr_min);
+    return 0;
 }

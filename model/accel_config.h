@@ -38,4 +38,15 @@ void accel_params_get(const rtcfg *cfg, accel_params *out);
 unsigned accel_fifo_key_count(void);
 const char *accel_fifo_key(unsigned i);
 
+/* Deadlock-free minima (the cross-key check of [fifo] refuses machines below
+ * them; FIFO auto-sizing never writes less). accel_fifo_min: the smallest
+ * safe capacity of key i on its own (ray_trv_loop: trv.slots - TRV stages +
+ * 1; the others 1); accel_leaf_return_min: the smallest safe sum
+ * fifo.ray_leaf + fifo.ray_return. accel_trv_depth_of: the TRV pipeline
+ * stages of cfg (trv_pipeline_depth without building a TRV). The argument
+ * is in accel_config.c and docs/accel.md. */
+uint32_t accel_fifo_min(const rtcfg *cfg, unsigned i);
+uint32_t accel_leaf_return_min(const rtcfg *cfg);
+uint32_t accel_trv_depth_of(const rtcfg *cfg);
+
 #endif

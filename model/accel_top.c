@@ -13,12 +13,16 @@
 #include "kernel/vcd.h"
 #include "model/dram_port.h"
 #include "model/energy.h"
+#include "model/dram_timing.h"
 #include "model/ist.h"
 #include "model/memsys.h"
 #include "model/sort_net.h"
 #include "model/trv.h"
 
 #define SLICE_CYCLES 65536u
+/* The kernel detector's margin over the machine's longest wait: the fixed
+ * window it had before the bound was derived (kernel/sim.h default). */
+#define ACCEL_DEADLOCK_MARGIN 100000u
 
 struct accel_top {
     accel_params p;
@@ -42,6 +46,11 @@ struct accel_top {
     uint64_t stat_cycles, stat_rays, stat_dram_bytes;
     uint64_t stat_failed;      /* the run stopped on a failure */
     char failure[128];         /* its one-line cause, "" when none */
+    /* failure detection (docs/accel.md "Deadlock and livelock bounds") */
+    uint64_t longest_wait;     /* the longest a valid run may do no work, cycles */
+    uint64_t deadlock_window;  /* kernel detector: no progress of any unit */
+    uint64_t livelock_window;  /* watchdog: no committed work (0 = off) */
+    uint64_t guard_cycle;      /* where the livelock guard was engaged, 0: never */
     double stat_mrps, stat_dram_gbs, stat_in_flight;
 };
 
@@ -284,6 +293,54 @@ static void compute_energy(accel_top *t)
     energy_compute(em, &a, t->mrps);
 }
 
+static uint64_t ceil_div(uint64_t a, uint64_t b) { return b ? (a + b - 1) / b : 0; }
+
+/* An upper bound, in accelerator cycles, on how long a valid run of the
+ * machine cfg may go without any committed work (a node visit, a triangle
+ * test, a completed ray): a bounce ray waiting for its shading
+ * (sched.shade_latency), then line fetches one after the other, as many as
+ * the caches can have outstanding at once (every MSHR: a downstream cache
+ * with one MSHR serializes them, and a node may need up to 8 lines), each
+ * a round trip through every FIFO, cache and arbiter to the memory and back
+ * at the memory's slowest (fixed: latency + one line at the configured
+ * bandwidth; LPDDR3: a row miss, PRE + ACT + RD each at the spec's largest
+ * constraint, per burst, plus postponed refreshes), doubled. Only a failed
+ * run waits this long, so a loose bound costs nothing but time before a
+ * real livelock is reported; one too tight turns a valid run into a false
+ * failure (issue 15). */
+static uint64_t longest_wait_of(const rtcfg *cfg, const accel_params *p, const memsys *mem, uint32_t ist_pipe)
+{
+    double period_ps = 1e6 / p->clock_mhz;
+    uint64_t line = (uint64_t)rtcfg_int(cfg, "node_l2.line");
+    if ((uint64_t)rtcfg_int(cfg, "prim.line") > line)
+        line = (uint64_t)rtcfg_int(cfg, "prim.line");
+    uint64_t memory;
+    const dram_spec *spec = memsys_dram_spec(mem);
+    if (spec) {
+        int32_t worst = 0;
+        for (int i = 0; i < spec->nconstraints; i++)
+            if (spec->constraint[i].cycles > worst)
+                worst = spec->constraint[i].cycles;
+        uint64_t per_burst = 3 * (uint64_t)worst + (uint64_t)spec->read_latency;
+        uint64_t per_req = per_burst * ceil_div(line, spec->tx_bytes > 0 ? (uint64_t)spec->tx_bytes : 1);
+        uint64_t dram_cycles = per_req + (uint64_t)(1 + spec->max_postponed_refresh) * (uint64_t)worst;
+        memory = (uint64_t)ceil((double)dram_cycles * spec->tck_ps / period_ps);
+    } else {
+        double gbs = rtcfg_real(cfg, "memory.fixed_bandwidth_gbs");
+        /* one line at gbs GB/s, in cycles of p->clock_mhz */
+        uint64_t transfer = gbs > 0 ? (uint64_t)ceil((double)line * p->clock_mhz * 1e6 / (gbs * 1e9)) : 0;
+        memory = (uint64_t)rtcfg_int(cfg, "memory.fixed_latency") + transfer + 1;
+    }
+    uint64_t round_trip = memory +
+                          (uint64_t)(rtcfg_int(cfg, "node_l1.hit_latency") + rtcfg_int(cfg, "node_l2.hit_latency") +
+                                     rtcfg_int(cfg, "prim.hit_latency")) +
+                          12 * (uint64_t)rtcfg_int(cfg, "fifo.mem_latency") + 6 * (uint64_t)p->fifo_latency +
+                          ist_pipe + accel_trv_depth_of(cfg);
+    uint64_t fetches = (uint64_t)p->trv_count * (uint64_t)rtcfg_int(cfg, "node_l1.mshrs") +
+                       (uint64_t)(rtcfg_int(cfg, "node_l2.mshrs") + rtcfg_int(cfg, "prim.mshrs")) + 1;
+    return (uint64_t)p->sched.shade_latency + 2 * fetches * round_trip;
+}
+
 accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const accel_source *src,
                             const accel_top_opts *opts, char *err, size_t errlen)
 {
@@ -309,7 +366,6 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     t->stats = ks_stats_create();
     ks_time period = (ks_time)llround(1e6 / t->p.clock_mhz);
     t->clk = ks_clock_create(t->sim, "clk", period);
-    ks_sim_set_deadlock_cycles(t->sim, opts->deadlock_cycles ? opts->deadlock_cycles : 100000);
     if (opts->vcd_path) {
         ks_time end = opts->vcd_end_cycle ? (ks_time)opts->vcd_end_cycle * period : KS_TIME_MAX;
         t->vcd = ks_vcd_open(t->sim, opts->vcd_path, "1ns", (ks_time)opts->vcd_begin_cycle * period, end,
@@ -342,6 +398,14 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     /* trv.stages_fetch is the node L1 hit latency (accel_params_get) */
     assert(t->p.trv.stages_fetch == memsys_node_l1_latency(t->mem));
     t->p.ist.latency += memsys_prim_latency(t->mem);
+    /* failure detection windows derived from the machine: the kernel's
+     * detector (no unit made progress) and the watchdog (no committed work:
+     * node visits, triangle tests, completed rays), each the configured
+     * margin plus the longest wait of a valid run */
+    t->longest_wait = longest_wait_of(cfg, &t->p, t->mem, t->p.ist.latency + 1);
+    t->deadlock_window = (opts->deadlock_cycles ? opts->deadlock_cycles : ACCEL_DEADLOCK_MARGIN) + t->longest_wait;
+    t->livelock_window = t->p.sched.watchdog_cycles ? t->p.sched.watchdog_cycles + t->longest_wait : 0;
+    ks_sim_set_deadlock_cycles(t->sim, t->deadlock_window);
     /* units, in the order they are stepped each cycle: consumers of a FIFO
      * see its items at the ready time whatever the order (latency >= 1) */
     if (!sched_init(&t->sched, "sched", &t->p.sched, src, t->rays, ntrv, slots, t->clk, err, (unsigned)errlen)) {
@@ -386,6 +450,7 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
 
     for (uint32_t i = 0; i < ntrv; i++) {
         trv_set_probe(&t->trv[i], cache_probe, memsys_node_l1(t->mem, (int)i));
+        t->trv[i].core.present = cache_present;
         ks_clocked_wake_on(t->trv[i].proc, memsys_node_l1_filled(t->mem, (int)i));
     }
     ist_set_probe(&t->ist, cache_probe, memsys_prim(t->mem));
@@ -423,7 +488,8 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
         snprintf(err, errlen, "FIFO statistics: %s", ks_stats_error(t->stats));
         goto fail;
     }
-    if (!(t->energy = build_energy_model(t, cfg, err, errlen)) || energy_register_stats(t->energy, t->stats, err, errlen))
+    if (rtcfg_bool(cfg, "energy.enabled") &&
+        (!(t->energy = build_energy_model(t, cfg, err, errlen)) || energy_register_stats(t->energy, t->stats, err, errlen)))
         goto fail;
     if (t->vcd && ks_vcd_var_count(t->vcd) == 0) {
         /* a VCD without variables is of no use, and looked like a valid one */
@@ -521,10 +587,21 @@ static void describe_units(accel_top *t, uint64_t now, char *err, size_t errlen,
     }
 }
 
+/* Work that brings the frame closer to its end: committed node visits and
+ * triangle tests (a pass or test invalidated by a miss does not count) and
+ * completed rays. A run where it stops growing is stuck (livelock). */
+static uint64_t committed_work(const accel_top *t)
+{
+    uint64_t w = t->sched.completed + t->ist.core.st.tests;
+    for (uint32_t i = 0; i < t->p.trv_count; i++)
+        w += t->trv[i].core.st.visits;
+    return w;
+}
+
 int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *err, size_t errlen)
 {
     ks_time period = ks_clock_period(t->clk);
-    uint64_t slice_end = 0, now_cycle = 0;
+    uint64_t slice_end = 0, now_cycle = 0, last_work = 0, last_work_cycle = 0;
     int rc = 0;
     for (;;) {
         slice_end += SLICE_CYCLES;
@@ -558,13 +635,32 @@ int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *er
             }
             break;
         }
-        if (t->p.sched.watchdog_cycles && t->sched.in_flight &&
-            now_cycle > t->sched.last_complete_cycle + t->p.sched.watchdog_cycles) {
+        uint64_t work = committed_work(t);
+        if (work != last_work) {
+            last_work = work;
+            last_work_cycle = now_cycle;
+        }
+        if (t->sched.last_complete_cycle > last_work_cycle)
+            last_work_cycle = t->sched.last_complete_cycle;
+        /* Half-way to the watchdog, engage the TRVs' forward-progress guard
+         * (trv_core.h): rays that thrash a node L1 (their fills evicting
+         * each other's lines before they look again) then take turns. A
+         * run that never starves never engages it, so its figures are the
+         * plain model's; one that does says so in its summary. */
+        if (t->livelock_window && !t->guard_cycle && t->sched.in_flight &&
+            now_cycle > last_work_cycle + t->livelock_window / 2) {
+            t->guard_cycle = now_cycle;
+            for (uint32_t i = 0; i < t->p.trv_count; i++)
+                t->trv[i].core.guard = true;
+        }
+        if (t->livelock_window && t->sched.in_flight && now_cycle > last_work_cycle + t->livelock_window) {
             int n = snprintf(err, errlen,
-                             "no ray completed for %llu cycles (sched.watchdog_cycles) at cycle %llu with %llu rays in "
-                             "flight (livelock: rays keep looping):",
-                             (unsigned long long)t->p.sched.watchdog_cycles, (unsigned long long)now_cycle,
-                             (unsigned long long)t->sched.in_flight);
+                             "no node visit, triangle test or completed ray for %llu cycles (sched.watchdog_cycles = "
+                             "%llu + the machine's longest wait %llu) at cycle %llu with %llu rays in flight "
+                             "(livelock: rays keep looping):",
+                             (unsigned long long)(now_cycle - last_work_cycle),
+                             (unsigned long long)t->p.sched.watchdog_cycles, (unsigned long long)t->longest_wait,
+                             (unsigned long long)now_cycle, (unsigned long long)t->sched.in_flight);
             describe_units(t, now_cycle, err, errlen, n);
             snprintf(t->failure, sizeof t->failure, "livelock (no ray completed) at cycle %llu",
                      (unsigned long long)now_cycle);
@@ -598,6 +694,7 @@ uint64_t accel_top_rays(const accel_top *t) { return t->rays_done; }
 double accel_top_mrps(const accel_top *t) { return t->mrps; }
 ks_stats *accel_top_stats(accel_top *t) { return t->stats; }
 const accel_params *accel_top_params(const accel_top *t) { return &t->p; }
+uint64_t accel_top_guard_cycle(const accel_top *t) { return t->guard_cycle; }
 
 void accel_top_print_summary(accel_top *t, FILE *out)
 {
@@ -606,6 +703,10 @@ void accel_top_print_summary(accel_top *t, FILE *out)
     if (t->failure[0])
         fprintf(out, "status      FAILED: %s; the figures below cover the cycles simulated until then\n",
                 t->failure);
+    if (t->guard_cycle)
+        fprintf(out, "guard       livelock guard engaged at cycle %llu: rays thrashed a node L1 and took turns from "
+                     "then on (docs/accel.md)\n",
+                (unsigned long long)t->guard_cycle);
     fprintf(out, "cycles      %llu\n", (unsigned long long)t->cycles);
     fprintf(out, "rays        %llu (%llu primary, %llu bounce)\n", (unsigned long long)t->rays_done,
             (unsigned long long)t->sched.primaries, (unsigned long long)t->sched.bounces);
@@ -676,7 +777,24 @@ int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen)
             any = true;
             want = ring_suggest(&t->ist.loop) > want ? ring_suggest(&t->ist.loop) : want;
         }
+        /* never below the deadlock-free minimum (accel_config.h): what one
+         * frame needed says nothing about a larger one (issue 15: a machine
+         * sized on 8x4 deadlocked at 64x36) */
+        if (want < accel_fifo_min(cfg, k))
+            want = accel_fifo_min(cfg, k);
         if (any && rtcfg_set_int(cfg, accel_fifo_key(k), want, err, errlen))
+            return -1;
+    }
+    /* leaf + return: split the safe sum evenly where the sizes fall short */
+    int64_t leaf = rtcfg_int(cfg, "fifo.ray_leaf"), ret = rtcfg_int(cfg, "fifo.ray_return");
+    int64_t need = (int64_t)accel_leaf_return_min(cfg);
+    if (leaf + ret < need) {
+        if (leaf < (need + 1) / 2)
+            leaf = (need + 1) / 2;
+        if (ret < need - leaf)
+            ret = need - leaf;
+        if (rtcfg_set_int(cfg, "fifo.ray_leaf", leaf, err, errlen) ||
+            rtcfg_set_int(cfg, "fifo.ray_return", ret, err, errlen))
             return -1;
     }
     /* memory side: the largest suggestion among the FIFOs of each key */

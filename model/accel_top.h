@@ -11,7 +11,11 @@
  * image (width) and returns NULL with a message naming the key on error.
  * accel_top_run() runs the frame to completion: 0 when every ray completed,
  * 1 on a simulation failure (deadlock: the report names who waits on whom;
- * a ray whose stack overflowed: "stack too small", naming trv.stack_depth).
+ * livelock: no node visit, triangle test or completed ray for
+ * sched.watchdog_cycles + the machine's longest wait; a ray whose stack
+ * overflowed: "stack too small", naming trv.stack_depth). Half-way to the
+ * watchdog it engages the TRVs' livelock guard (trv_core.h) and says so in
+ * the summary; a run that never starves is unaffected.
  * Results are deterministic (same inputs -> same cycles and statistics). */
 #ifndef RTSIM_MODEL_ACCEL_TOP_H
 #define RTSIM_MODEL_ACCEL_TOP_H
@@ -38,7 +42,8 @@ typedef struct accel_top_opts {
     const char *vcd_filter;        /* comma-separated globs, NULL = all */
     accel_event_fn events;         /* per-ray event log (NULL: none) */
     void *events_user;
-    uint64_t deadlock_cycles;      /* kernel detector window; 0 = default (100000) */
+    uint64_t deadlock_cycles;      /* kernel detector margin; 0 = default (100000); the window is
+                                      the margin + the machine's longest wait (docs/accel.md) */
     bool exhaustive;               /* step every unit every cycle on every clock (no idle
                                       skipping): the reference mode results must equal */
 } accel_top_opts;
@@ -57,12 +62,14 @@ uint64_t accel_top_rays(const accel_top *t);       /* rays completed */
 double accel_top_mrps(const accel_top *t);         /* rays / simulated second / 1e6 at the machine clock */
 ks_stats *accel_top_stats(accel_top *t);           /* every statistic */
 const accel_params *accel_top_params(const accel_top *t);
+uint64_t accel_top_guard_cycle(const accel_top *t); /* where the livelock guard engaged, 0: never */
 /* Writes the human-readable summary: cycles, MRPS, per-unit utilization,
  * cache hit rates, DRAM traffic and bandwidth, rays in flight. */
 void accel_top_print_summary(accel_top *t, FILE *out);
 
 /* FIFO auto-sizing (paper sec. 3): sets every FIFO key of cfg to the first
- * power of two above the largest occupancy seen by the FIFOs it sizes.
+ * power of two above the largest occupancy seen by the FIFOs it sizes, but
+ * never below its deadlock-free minimum (accel_config.h).
  * Returns 0, or -1 with a message. */
 int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen);
 

@@ -15,7 +15,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define MAX_LINES_PER_ACCESS 8   /* an access touches at most this many lines */
+#define MAX_LINES_PER_ACCESS CACHE_MAX_LINES_PER_ACCESS
 #define NO_LINE UINT64_MAX       /* never a line number (addresses are shifted right by >= 4) */
 
 typedef struct mshr {
@@ -591,6 +591,15 @@ bool cache_pop_ready(cache *c, mem_req *out)
 }
 
 bool cache_contains(const cache *c, uint64_t addr) { return lookup(c, addr >> c->line_shift) >= 0; }
+
+bool cache_present(void *ctx, uint64_t addr, uint32_t bytes)
+{
+    const cache *c = ctx;
+    for (uint64_t l = addr >> c->line_shift, last = (addr + (bytes ? bytes : 1) - 1) >> c->line_shift; l <= last; l++)
+        if (lookup(c, l) < 0)
+            return false;
+    return true;
+}
 bool cache_line_pending(const cache *c, uint64_t addr) { return find_mshr(c, addr >> c->line_shift) >= 0; }
 int cache_mshrs_busy(const cache *c) { return c->mshr_busy; }
 int cache_misses_queued(const cache *c) { return c->missq_n; }

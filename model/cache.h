@@ -37,6 +37,11 @@
 
 #include "model/mem_msg.h"
 
+/* An access touches at most this many lines (more is a programming error:
+ * the configuration check, memsys_config.c, refuses machines whose node or
+ * triangle reads could). */
+#define CACHE_MAX_LINES_PER_ACCESS 8
+
 typedef struct cache_params {
     uint32_t size_bytes;    /* capacity, power of two */
     uint32_t line_bytes;    /* power of two, >= 16 */
@@ -120,6 +125,9 @@ void cache_set_miss_hook(cache *c, cache_miss_hook fn, void *user);
 
 /* Introspection (tests, deadlock reports, statistics). */
 bool cache_contains(const cache *c, uint64_t addr);        /* no side effects */
+/* Every line of [addr, addr+bytes) present (ctx = the cache; no side
+ * effects: no LRU update, no statistics). */
+bool cache_present(void *ctx, uint64_t addr, uint32_t bytes);
 bool cache_line_pending(const cache *c, uint64_t addr);    /* an MSHR waits for it */
 int cache_mshrs_busy(const cache *c);
 int cache_misses_queued(const cache *c);                   /* not yet popped */

@@ -6,6 +6,8 @@
 #include <string.h>
 
 static const rtcfg_param energy_params_tab[] = {
+    {"enabled", RTCFG_BOOL, "true", 0, 0, 0, NULL, "",
+     "compute energy, power and area; false runs a machine the SRAM table cannot cover, without those figures"},
     {"sram_table", RTCFG_STRING, "sram_45nm.ini", 0, 0, 0, NULL, "file",
      "SRAM figures (CACTI 6.5, 45 nm); a name without '/' is looked up in model/data/energy"},
     {"fpu_table", RTCFG_STRING, "fpu_45nm.ini", 0, 0, 0, NULL, "file",
@@ -18,7 +20,7 @@ static const rtcfg_param energy_params_tab[] = {
      "DRAM energy per byte with memory.model = fixed (ours: the LPDDR3 model's figure on diffuse rays, "
      "background included)"},
 };
-const rtcfg_schema energy_schema = {"energy", "energy and area model (docs/energy.md)", energy_params_tab, 5, NULL};
+const rtcfg_schema energy_schema = {"energy", "energy and area model (docs/energy.md)", energy_params_tab, 6, NULL};
 
 int energy_add_schema(rtcfg *cfg, char *err, size_t errlen) { return rtcfg_add_schema(cfg, &energy_schema, err, errlen); }
 
@@ -104,16 +106,15 @@ energy_model *energy_model_create_with(const energy_table *table, const energy_m
     /* caches: one CACTI array per bank */
     em->cache_part0 = em->nparts;
     for (int i = 0; i < m->ncache; i++) {
-        if (m->cache[i].ports != 1) {
-            snprintf(err, errlen, "%s.ports = %u: the SRAM table has single-ported caches only (allowed 1)",
-                     m->cache[i].name, m->cache[i].ports);
-            goto fail;
-        }
         char what[96];
         snprintf(what, sizeof what, "%s (%s.size / %s.banks)", m->cache[i].name, m->cache[i].name, m->cache[i].name);
         energy_sram_req creq = {what, ENERGY_CACHE, ENERGY_1RW, m->cache[i].size / m->cache[i].banks,
                                 m->cache[i].ways, m->cache[i].line};
         if (add_sram(em, m->cache[i].name, EU_CACHE, m->cache[i].count * m->cache[i].banks, &creq, err, errlen))
+            goto fail;
+        /* a multi-ported cache: the 1-port figure scaled by the table's law */
+        snprintf(what, sizeof what, "%s.ports", m->cache[i].name);
+        if (energy_sram_ports(&em->table, what, m->cache[i].ports, &em->parts[em->nparts - 1].fig, err, errlen))
             goto fail;
     }
     /* FIFOs: 1R1W RAMs of entries x record width */
@@ -159,7 +160,7 @@ energy_model *energy_model_create(const rtcfg *cfg, const energy_machine *m, cha
     energy_model *em = energy_model_create_with(t, m, why, sizeof why);
     free(t);
     if (!em)
-        snprintf(err, errlen, "energy model: %s", why);
+        snprintf(err, errlen, "energy model: %s (--set energy.enabled=false runs without energy and area)", why);
     return em;
 }
 

@@ -61,9 +61,22 @@ static int parse_positive(loader *L, const char *name, const char *value, double
     return 1;
 }
 
+static int multiport_handler(loader *L, const char *name, const char *value)
+{
+    energy_multiport *m = &L->t->mp;
+    static const char *const keys[] = {"ports", "area", "read", "write", "leak"};
+    double *dst[] = {&m->p0, &m->area, &m->read, &m->write, &m->leak};
+    for (int k = 0; k < 5; k++)
+        if (!strcmp(name, keys[k]))
+            return parse_positive(L, name, value, dst[k]);
+    return fail(L, "unknown key '%s' in [multiport] (allowed ports, area, read, write, leak)%s", name, "");
+}
+
 static int sram_handler(loader *L, const char *section, const char *name, const char *value)
 {
     energy_table *t = L->t;
+    if (!strcmp(section, "multiport"))
+        return multiport_handler(L, name, value);
     int r = t->nrows - 1;
     if (r < 0 || strcmp(t->rows[r].name, section) != 0) {
         for (int i = 0; i < t->nrows; i++)
@@ -170,6 +183,10 @@ int energy_table_load(energy_table *t, const char *sram_path, const char *fpu_pa
         snprintf(err, errlen, "%s: no SRAM rows", sram_path);
         return -1;
     }
+    if (t->mp.p0 != 0 && !(t->mp.p0 >= 2 && t->mp.area > 0 && t->mp.read > 0 && t->mp.write > 0 && t->mp.leak > 0)) {
+        snprintf(err, errlen, "%s: [multiport] needs ports >= 2 and area, read, write, leak > 0", sram_path);
+        return -1;
+    }
     for (int r = 0; r < t->nrows; r++) {
         unsigned need = (1u << N_SRAM_KEYS) - 1;
         if (t->rows[r].kind == ENERGY_RAM)
@@ -247,5 +264,23 @@ int energy_sram_figure(const energy_table *t, const energy_sram_req *req, energy
     out->leak_mw = row->leak_mw * s;
     out->read_nj = row->read_nj * e;
     out->write_nj = row->write_nj * e;
+    return 0;
+}
+
+int energy_sram_ports(const energy_table *t, const char *what, unsigned ports, energy_sram *fig, char *err,
+                      size_t errlen)
+{
+    if (ports <= 1)
+        return 0;
+    if (t->mp.p0 < 2) {
+        snprintf(err, errlen, "%s: %u ports, but %s has no [multiport] figure (1-port arrays only)", what, ports,
+                 t->sram_path);
+        return -1;
+    }
+    double e = log((double)ports) / log(t->mp.p0);
+    fig->area_mm2 *= pow(t->mp.area, e);
+    fig->read_nj *= pow(t->mp.read, e);
+    fig->write_nj *= pow(t->mp.write, e);
+    fig->leak_mw *= pow(t->mp.leak, e);
     return 0;
 }

@@ -46,9 +46,17 @@ typedef struct energy_fpu {
     double leak_mw_per_flop_unit;
 } energy_fpu;
 
+/* How a figure grows with ports: the ratio of a p0-port array to a 1-port
+ * one; a p-port structure scales by ratio^(ln p / ln p0) (section
+ * [multiport] of the SRAM table; p0 = 0 when the table has none). */
+typedef struct energy_multiport {
+    double p0, area, read, write, leak;
+} energy_multiport;
+
 typedef struct energy_table {
     energy_sram rows[ENERGY_MAX_ROWS];
     int nrows;
+    energy_multiport mp;
     energy_fpu fpu;
     char sram_path[512], fpu_path[512];
 } energy_table;
@@ -63,6 +71,11 @@ typedef struct energy_sram_req {
 
 int energy_table_load(energy_table *t, const char *sram_path, const char *fpu_path, char *err, size_t errlen);
 /* 0 with the (scaled) figure in *out, or -1 with a message. */
+/* Scales a 1-port figure to `ports` ports by the table's [multiport] law;
+ * -1 with a message naming `what` when the table has none. */
+int energy_sram_ports(const energy_table *t, const char *what, unsigned ports, energy_sram *fig, char *err,
+                      size_t errlen);
+
 int energy_sram_figure(const energy_table *t, const energy_sram_req *req, energy_sram *out, char *err,
                        size_t errlen);
 

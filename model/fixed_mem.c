@@ -7,9 +7,9 @@
 #include <string.h>
 
 static const ks_desc_item items[] = {
-    {KS_DESC_PARAM, "memory.fixed_latency", "int", "50", "1..100000",
+    {KS_DESC_PARAM, "memory.fixed_latency", "int", "in [memory] below", "",
      "cycles from the end of the transfer to the response (ours: ~100 ns)"},
-    {KS_DESC_PARAM, "memory.fixed_bandwidth_gbs", "double", "12.8", "0..10000",
+    {KS_DESC_PARAM, "memory.fixed_bandwidth_gbs", "double", "in [memory] below", "",
      "peak data rate, 0 = unlimited (paper sec. 3.2: 12.8 GB/s)"},
     {KS_DESC_PORT, "req_in", "in fifo<mem_req>", "", "", "line requests"},
     {KS_DESC_PORT, "resp_out", "out fifo<mem_resp>", "", "", "responses in request order"},

@@ -64,6 +64,9 @@ uint64_t memsys_memory_requests(const memsys *ms);
 uint64_t memsys_memory_latency_sum(const memsys *ms);
 /* The LPDDR3 port (statistics "dram.*", its own 800 MHz clock), NULL when fixed. */
 struct dram_port *memsys_dram_port(memsys *ms);
+/* The LPDDR3 spec in use (NULL with the fixed memory). */
+struct dram_spec;
+const struct dram_spec *memsys_dram_spec(const memsys *ms);
 
 int memsys_fifo_count(const memsys *ms);
 ks_fifo *memsys_fifo_at(const memsys *ms, int i, const char **config_key);

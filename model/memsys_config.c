@@ -5,16 +5,18 @@
  * paper; the values below are our choices (see the preset comments). */
 #include "model/memsys_config.h"
 
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "model/dram_timing.h"
+#include "tracer/bvh_layout.h"
 
 #define CACHE_PARAMS(size, line, banks, mshrs, merge, lat)                                                             \
     {                                                                                                                  \
         {"size", RTCFG_INT, size, 64, 1073741824.0, RTCFG_POW2, NULL, "bytes", "capacity"},                           \
         {"line", RTCFG_INT, line, 16, 4096, RTCFG_POW2, NULL, "bytes", "line size (node caches: node size)"},          \
-        {"ways", RTCFG_INT, "4", 1, 64, 0, NULL, "ways", "associativity (true LRU)"},                                 \
+        {"ways", RTCFG_INT, "4", 1, 64, RTCFG_POW2, NULL, "ways", "associativity (true LRU)"},                        \
         {"banks", RTCFG_INT, banks, 1, 16, RTCFG_POW2, NULL, "banks", "banks interleaved by line"},                   \
         {"ports", RTCFG_INT, "1", 1, 16, 0, NULL, "accesses/cycle", "accesses accepted per cycle"},                   \
         {"mshrs", RTCFG_INT, mshrs, 1, 256, 0, NULL, "lines", "miss status holding registers (missing lines)"},       \
@@ -229,6 +231,21 @@ int memsys_check_cache_params(const cache_params *p, const char *s, char *err, s
     return 0;
 }
 
+/* The most lines an object of `bytes` bytes touches in a cache of `line`-byte
+ * lines, given the memory image's layout (tracer/bvh_image.c): nodes of N x
+ * 32 B back to back from address 0, triangles of 48 B back to back from a
+ * 4 KB boundary. Object i starts at i * bytes, so its offset within a line
+ * is a multiple of g = gcd(bytes, line), at worst line - g. */
+int64_t memsys_lines_touched(int64_t bytes, int64_t line)
+{
+    int64_t a = bytes, b = line;
+    while (b) {
+        int64_t r = a % b;
+        a = b, b = r;
+    }
+    return (line - a + bytes - 1) / line + 1;
+}
+
 static int check_caches(const rtcfg *cfg, char *err, size_t errlen)
 {
     static const char *const secs[] = {"node_l1", "node_l2", "prim"};
@@ -241,6 +258,69 @@ static int check_caches(const rtcfg *cfg, char *err, size_t errlen)
         memsys_cache_params(cfg, secs[i], &p);
         if (memsys_check_cache_params(&p, secs[i], err, errlen))
             return -1;
+    }
+    /* A probe is all-or-nothing (cache.h): every line one access touches
+     * must fit in the cache at once, or the requester loops for ever, and
+     * the cache serves at most CACHE_MAX_LINES_PER_ACCESS lines per access.
+     * Consecutive lines spread over the sets and banks, so the cache holds
+     * them all when it has that many lines. */
+    static const struct {
+        const char *sec, *what;
+    } fits[] = {{"node_l1", "one BVH node"}, {"prim", "one triangle"}};
+    for (int i = 0; i < 2; i++) {
+        char ks[32], kl[32];
+        snprintf(ks, sizeof ks, "%s.size", fits[i].sec);
+        snprintf(kl, sizeof kl, "%s.line", fits[i].sec);
+        if (!rtcfg_has(cfg, ks))
+            continue;
+        int64_t bytes = i == 0 ? RT_SLOT_BYTES * rtcfg_int(cfg, "machine.branching") : RT_TRI_BYTES;
+        int64_t size = rtcfg_int(cfg, ks), line = rtcfg_int(cfg, kl);
+        int64_t need = memsys_lines_touched(bytes, line);
+        if (need > CACHE_MAX_LINES_PER_ACCESS) {
+            int64_t min_line = line;
+            while (memsys_lines_touched(bytes, min_line) > CACHE_MAX_LINES_PER_ACCESS)
+                min_line *= 2;
+            return rtcfg_errorf(err, errlen,
+                                "%s = %lld: %s of %lld B touches up to %lld lines, more than the %d one access may "
+                                "touch: %s must be >= %lld",
+                                kl, (long long)line, fits[i].what, (long long)bytes, (long long)need,
+                                CACHE_MAX_LINES_PER_ACCESS, kl, (long long)min_line);
+        }
+        /* node L1: the lines of one node must be requested together, so
+         * they arrive together: with fewer MSHRs they come one round trip
+         * after the other while the other rays of the TRV probe and fill
+         * theirs, evicting the first ones (found by tb_accel_random_configs:
+         * 1 MSHR, 7-line nodes, a direct-mapped L1, two rays per TRV looping
+         * for ever). The primitive cache is exempt: one ray issues at a
+         * time in the IST, so a one-MSHR primitive cache fetching a
+         * triangle's two lines in turn completes (tb_cache_memsys,
+         * tb_accel_system "one_mshr"). */
+        char km[32];
+        snprintf(km, sizeof km, "%s.mshrs", fits[i].sec);
+        if (i == 0 && rtcfg_int(cfg, km) < need)
+            return rtcfg_errorf(err, errlen,
+                                "%s = %lld: %s of %lld B touches up to %lld lines of %s = %lld B, all requested at "
+                                "once: %s must be >= %lld (or raise %s)",
+                                km, (long long)rtcfg_int(cfg, km), fits[i].what, (long long)bytes, (long long)need, kl,
+                                (long long)line, km, (long long)need, kl);
+        /* direct-mapped and an access over several lines: two waiting
+         * rays whose lines share a set evict each other's lines on every
+         * fill, for ever (found by tb_accel_random_configs four times, in
+         * both caches: 1 way, nodes of 3, 5 and 7 lines, triangles of 2) */
+        char kw[32];
+        snprintf(kw, sizeof kw, "%s.ways", fits[i].sec);
+        if (need > 1 && rtcfg_int(cfg, kw) < 2)
+            return rtcfg_errorf(err, errlen,
+                                "%s = 1: %s of %lld B touches up to %lld lines of %s = %lld B; a direct-mapped cache "
+                                "lets the rays waiting on it evict each other's lines for ever: %s must be >= 2 (or "
+                                "raise %s to hold it in one line)",
+                                kw, fits[i].what, (long long)bytes, (long long)need, kl, (long long)line, kw, kl);
+        if (size / line < need)
+            return rtcfg_errorf(err, errlen,
+                                "%s = %lld holds %lld line(s) of %s = %lld B, but %s of %lld B touches up to %lld "
+                                "lines, which must all be present at once: %s must be >= %lld",
+                                ks, (long long)size, (long long)(size / line), kl, (long long)line, fits[i].what,
+                                (long long)bytes, (long long)need, ks, (long long)(need * line));
     }
     if (rtcfg_has(cfg, "node_l2.line") &&
         rtcfg_int(cfg, "node_l1.line") > rtcfg_int(cfg, "node_l2.line"))

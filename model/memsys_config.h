@@ -22,6 +22,7 @@
 #define RTSIM_MODEL_MEMSYS_CONFIG_H
 
 #include <stddef.h>
+#include <stdint.h>
 
 #include "model/cache.h"
 #include "model/config.h"
@@ -47,5 +48,10 @@ void memsys_cache_params(const rtcfg *cfg, const char *section, cache_params *ou
 
 /* Checks a cache's parameters; the message names SECTION.key. */
 int memsys_check_cache_params(const cache_params *p, const char *section, char *err, size_t errlen);
+
+/* The most lines of `line` bytes an object of `bytes` bytes touches in the
+ * memory image's layout (a node: bytes = machine.branching x 32; a
+ * triangle: 48); see memsys_config.c. */
+int64_t memsys_lines_touched(int64_t bytes, int64_t line);
 
 #endif

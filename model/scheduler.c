@@ -6,10 +6,11 @@
 #include <string.h>
 
 static const ks_desc_item sched_items[] = {
-    {KS_DESC_PARAM, "sched.admit_per_cycle", "int", "1", "1..64", "rays admitted per cycle"},
-    {KS_DESC_PARAM, "sched.shade_latency", "int", "0", "0..1000000",
+    {KS_DESC_PARAM, "sched.admit_per_cycle", "int", "in [sched] below", "", "rays admitted per cycle"},
+    {KS_DESC_PARAM, "sched.shade_latency", "int", "in [sched] below", "",
      "cycles from a ray's completion until its bounce ray is ready (shading outside the accelerator)"},
-    {KS_DESC_PARAM, "sched.watchdog_cycles", "int", "1000000", "0..", "stop with a report when no ray completes for this long; 0 = off"},
+    {KS_DESC_PARAM, "sched.watchdog_cycles", "int", "in [sched] below", "", "stop with a report when no work is done (node visit, triangle test, completion) for this long "
+     "plus the machine's longest wait; 0 = off"},
     {KS_DESC_PORT, "to_trv[i]", "out fifo<trv_msg>", "", "", "new rays to TRV i"},
     {KS_DESC_PORT, "from_trv[i]", "in fifo<trv_msg>", "", "", "finished rays from TRV i"},
     {KS_DESC_STAT, "admitted", "rays", "", "", "rays admitted"},

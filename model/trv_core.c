@@ -25,6 +25,7 @@ bool trv_core_init(trv_core *c, const trv_core_params *p, const accel_image *img
     c->net = sort_net_get(p->width);
     c->probe = probe;
     c->probe_ctx = probe_ctx;
+    c->guard_slot = -1;
     return true;
 }
 
@@ -132,7 +133,18 @@ trv_pass_result trv_core_pass(trv_core *c, accel_ray *r, uint64_t now, uint32_t 
     const accel_image *img = c->img;
     uint64_t addr = img->node_base + (uint64_t)r->target_ref * img->node_bytes;
     c->fetch_cycles = 1;
+    if (c->guard && c->present) {
+        if (c->guard_slot < 0) {
+            c->guard_slot = r->slot;   /* the first ray to visit takes the token */
+        } else if (c->guard_slot != (int64_t)r->slot && !c->present(c->probe_ctx, addr, img->node_bytes)) {
+            r->loops++;
+            c->st.loops_blocked++;
+            return TRV_LOOP_BLOCKED;   /* no new misses while another ray holds the token */
+        }
+    }
     cache_result cr = c->probe ? c->probe(c->probe_ctx, addr, img->node_bytes, now, &c->fetch_cycles) : CACHE_HIT;
+    if (c->guard && cr == CACHE_HIT && c->guard_slot == (int64_t)r->slot)
+        c->guard_slot = -1;            /* it got its node: the next ray's turn */
     if (cr != CACHE_HIT) {
         r->loops++;
         if (cr == CACHE_MISS) {
@@ -190,6 +202,11 @@ trv_pass_result trv_core_pass(trv_core *c, accel_ray *r, uint64_t now, uint32_t 
     if (k) {
         int cyc = trv_stack_push(&c->stack, r->slot, push, k);
         if (cyc < 0) {
+            /* the ray ends here: empty its stack, or the next ray admitted
+             * to this slot would start on the failed ray's entries (found
+             * by tb_accel_random_configs: later rays overflowed early or
+             * popped another ray's nodes) */
+            trv_stack_clear(&c->stack, r->slot);
             r->phase = RAY_FAILED;
             c->st.overflows++;
             return TRV_OVERFLOW;

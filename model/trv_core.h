@@ -67,6 +67,13 @@ typedef struct trv_core {
     void *ev_user;
     trv_core_stats st;
     uint32_t fetch_cycles;  /* cycles the last node fetch occupied the L1 port (bank conflict > 1) */
+    /* Forward-progress guard (docs/accel.md "Livelock guard"; off unless
+     * the top level engages it on a starving run): one ray at a time holds
+     * the token; the others may use the node L1 only for nodes already
+     * present, so no fill of theirs evicts the token ray's lines. */
+    bool (*present)(void *ctx, uint64_t addr, uint32_t bytes);   /* side-effect-free probe */
+    bool guard;
+    int64_t guard_slot;     /* slot of the ray holding the token, -1: free */
 } trv_core;
 
 /* False with a message on bad parameters (width mismatch, sizes). */

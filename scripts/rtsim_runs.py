@@ -36,23 +36,32 @@ def point_name(scene, rays, machine, res, sets=()):
     return name + ".json"
 
 
+class Refused(Exception):
+    """rtsim refused the machine at start-up (exit 2): not a valid point."""
+
+
 def run_point(rtsim, runs_dir, scene, rays, machine, res, sets=()):
     """Statistics of one point, running rtsim unless its JSON exists (rtsim
-    writes it under a temporary name and renames it when complete)."""
+    writes it under a temporary name and renames it when complete). A
+    machine rtsim refuses (exit 2) raises Refused with rtsim's message."""
     path = os.path.join(runs_dir, point_name(scene, rays, machine, res, sets))
     if not os.path.exists(path):
         cmd = [rtsim, scene, "--res", res, "--rays", rays, "--machine", machine, "--quiet", "--json", path]
         for s in sets:
             cmd += ["--set", s]
         p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        if p.returncode == 2:
+            raise Refused(p.stderr.strip().splitlines()[-1] if p.stderr.strip() else "exit 2")
         if p.returncode != 0:
             raise RuntimeError("%s: exit %d: %s" % (" ".join(cmd), p.returncode, p.stderr.strip()[-400:]))
     with open(path) as f:
         return json.load(f)
 
 
-def run_all(tool, rtsim, runs_dir, points, jobs):
-    """points: list of (scene, rays, machine, res, sets); returns {point: stats}."""
+def run_all(tool, rtsim, runs_dir, points, jobs, refused=None):
+    """points: list of (scene, rays, machine, res, sets); returns {point: stats}.
+    With a dict `refused`, a point rtsim refuses goes there (point: message)
+    instead of stopping the script."""
     os.makedirs(runs_dir, exist_ok=True)
     out = {}
     with cf.ThreadPoolExecutor(max_workers=jobs) as ex:
@@ -60,6 +69,10 @@ def run_all(tool, rtsim, runs_dir, points, jobs):
         for f in cf.as_completed(fut):
             try:
                 out[fut[f]] = f.result()
+            except Refused as e:
+                if refused is None:
+                    die(tool, str(e))
+                refused[fut[f]] = str(e)
             except Exception as e:
                 die(tool, str(e))
     return out

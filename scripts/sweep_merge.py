@@ -134,11 +134,11 @@ def main():
           + ("; not in rtsim's JSON (no column, no chart): " + ", ".join(absent) if absent else ""))
     failed = [p[0] for p, j in results if j.get("run_failed")]
     if failed:
-        print(f"sweep: {len(failed)} of {len(results)} points deadlocked or livelocked "
-              "(run_failed = 1 in the CSV, left out of the charts): "
+        print(f"sweep: {len(failed)} of {len(results)} points failed (deadlock, livelock or stack overflow; "
+              "run_failed = 1 in the CSV, left out of the charts): "
               + " ".join(failed[:5]) + (" ..." if len(failed) > 5 else ""))
 
-    # A deadlocked run's figures (MRPS 0...) are no measurement: not charted.
+    # A failed run's figures (MRPS 0...) are no measurement: not charted.
     draw_charts(d, header, grid, [(p, j) for p, j in results if not j.get("run_failed")], present)
     if missing:
         print(f"sweep: {len(missing)} of {len(points)} points have no result yet: " + " ".join(missing[:5])

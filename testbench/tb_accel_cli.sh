@@ -6,7 +6,7 @@
 # and runs with the same results), determinism, and bad input: unknown or
 # out-of-range --set keys, bad options/values/scenes -> a message naming the
 # key or value and the allowed range, exit 2, no output file left behind;
-# a deadlocking machine -> exit 1 with a report.
+# a machine that could deadlock -> refused at start-up, exit 2.
 set -u
 bin=${RTSIM_BIN:?}/rtsim
 tmp=${RTSIM_TMP:-/tmp}/tb_accel_cli
@@ -171,14 +171,15 @@ if [ $rc -eq 0 ] && python3 -c "import json,sys; a=json.load(open('$tmp/s1.json'
   pass accel_cli_autosize_reload
 else fail accel_cli_autosize_reload "rc $rc: $out"; fi
 
-# an undersized FIFO deadlocks: exit 1 and a report naming the unit
-expect accel_cli_deadlock_exit1 1 "deadlock" -- "$bin" "$scene" --res 32x32 --quiet --set fifo.ray_trv_loop=1
-# ... and says so in the summary and the JSON, whose figures cover the
-# cycles simulated until it stopped (a completed run says run_failed 0)
-out=$("$bin" "$scene" --res 32x32 --set fifo.ray_trv_loop=1 --json "$tmp/dl.json" 2>/dev/null)
-stop=$(echo "$out" | sed -n 's/^status      FAILED: deadlock at cycle \([0-9]*\);.*/\1/p')
-if [ -n "$stop" ] && echo "$out" | grep -q "^cycles      $stop\$" &&
-   python3 -c "import json,sys; d=json.load(open('$tmp/dl.json')); a=json.load(open('$tmp/s1.json')); sys.exit(0 if d['run_failed']==1 and d['cycles']==$stop and a['run_failed']==0 else 1)"; then
+# a FIFO below its deadlock-free minimum is refused at start-up (exit 2,
+# naming the key and the minimum) instead of deadlocking at run time
+expect accel_cli_deadlock_fifo_refused 2 "fifo.ray_trv_loop = 1 (--set fifo.ray_trv_loop=1) can deadlock a TRV" -- \
+  "$bin" "$scene" --res 32x32 --quiet --set fifo.ray_trv_loop=1
+# a failed run says so in the summary and the JSON (a completed run says
+# run_failed 0): here rays overflow a one-entry stack
+out=$("$bin" "$scene" --res 16x16 --set trv.stack_depth=1 --json "$tmp/dl.json" 2>/dev/null)
+if echo "$out" | grep -q "^status      FAILED: [0-9]* rays overflowed their stack" &&
+   python3 -c "import json,sys; d=json.load(open('$tmp/dl.json')); a=json.load(open('$tmp/s1.json')); sys.exit(0 if d['run_failed']==1 and a['run_failed']==0 else 1)"; then
   pass accel_cli_failed_run_marked
 else fail accel_cli_failed_run_marked "summary/JSON do not mark the failed run: $(echo "$out" | head -5 | tr '\n' ' ')"; fi
 # a stack too small for the scene: exit 1 naming the key

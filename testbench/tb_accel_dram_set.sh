@@ -71,7 +71,7 @@ expect accel_dram_set_unknown_section 2 "unknown key dram.refresh.x" -- \
   "$bin" interior --res 8x4 --set dram.refresh.x=1 --json "$tmp/bad.json"
 expect accel_dram_set_out_of_range 2 "--set dram.organization.channels=99: [organization] channels = 99 out of range, allowed 1..16" -- \
   "$bin" interior --res 8x4 --set dram.organization.channels=99 --json "$tmp/bad.json"
-expect accel_dram_set_negative_timing 2 "--set dram.timing.nCL=-1: [timing] nCL = -1 out of range, allowed 0..10000000" -- \
+expect accel_dram_set_negative_timing 2 "--set dram.timing.nCL=-1: [timing] nCL = -1 out of range, allowed 1..10000000" -- \
   "$bin" interior --res 8x4 --set dram.timing.nCL=-1 --json "$tmp/bad.json"
 printf '[machine]\nname = x\n[dram]\ntiming.nRCD = 15 +\n' > "$tmp/bad.ini"
 expect accel_dram_set_bad_file_value 2 "bad.ini:4: [timing] nRCD = '15 +'" -- \

@@ -154,7 +154,8 @@ static void test_file_errors(void)
         {"bad_section_line", "[node_l1\nsize = 16K\n", {"case.ini:1: syntax error"}},
         {"outside_section", "size = 16K\n", {"case.ini:1: key 'size' outside a [section]"}},
         {"duplicate", "[prim]\nways = 4\nbanks = 2\nways = 8\n", {"case.ini:4: prim.ways given twice (first at line 2)"}},
-        {"sets_not_pow2", "[node_l1]\nways = 3\n", {"[node_l1]: size/(line*ways*banks)", "node_l1.ways"}},
+        {"ways_not_pow2", "[node_l1]\nways = 3\n", {"case.ini:2: node_l1.ways = 3 is not a power of two", "allowed 1..64, power of two"}},
+        {"sets_below_one", "[node_l1]\nways = 64\nsize = 4K\n", {"[node_l1]: size/(line*ways*banks)", "node_l1.ways"}},
         {"l1_line_above_l2", "[node_l1]\nline = 256\n", {"node_l1.line = 256 must be <= node_l2.line = 128"}},
         {"size_below_line", "[prim]\nsize = 64\n", {"[prim]: size/(line*ways*banks) = 64/(64*4*2)"}},
     };
@@ -197,7 +198,7 @@ static void test_set_errors(void)
         {"no_section", "ways=4", "--set ways=4: key 'ways' must be section.name"},
         {"unknown", "trv.cout=8", "--set trv.cout=8: unknown key trv.cout (no section [trv]"},
         {"unknown_in_section", "prim.bank=2", "--set prim.bank=2: unknown key prim.bank (keys of [prim]: size, line, ways, banks"},
-        {"range", "node_l1.ways=0", "--set node_l1.ways=0: node_l1.ways = 0 is out of range (allowed 1..64)"},
+        {"range", "node_l1.ways=0", "--set node_l1.ways=0: node_l1.ways = 0 is out of range (allowed 1..64, power of two)"},
         {"pow2", "prim.banks=3", "--set prim.banks=3: prim.banks = 3 is not a power of two (allowed 1..16, power of two)"},
         {"type", "fifo.mem_req=1.5", "--set fifo.mem_req=1.5: fifo.mem_req = '1.5' is not an integer (allowed 1..65536)"},
         {"empty", "fifo.mem_req=", "fifo.mem_req = '' is not an integer"},
@@ -279,7 +280,7 @@ static void test_dram_keys(void)
     TB_EQ_INT(rtcfg_load(a, f, err, sizeof err), 0);
     TB_EQ_INT(rtcfg_finish(a, err, sizeof err), -1);
     TB_HAS(err, "dram_bad.ini:2");
-    TB_HAS(err, "allowed 0..10000000");
+    TB_HAS(err, "allowed 1..10000000");
     rtcfg_destroy(a);
     tb_end();
 

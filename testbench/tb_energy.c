@@ -291,10 +291,33 @@ static void test_arithmetic(void)
     TB_CHECK(em == NULL && strstr(err, "node_l1") && strstr(err, "128-byte line"), "%s", em ? "accepted" : err);
     energy_model_destroy(em);
     small_machine(&m);
-    m.cache[0].ports = 2;
+    m.cache[0].ports = 2;   /* the small table has no [multiport] law */
     em = energy_model_create_with(&t, &m, err, sizeof err);
-    TB_CHECK(em == NULL && strstr(err, "node_l1.ports = 2"), "%s", em ? "accepted" : err);
+    TB_CHECK(em == NULL && strstr(err, "node_l1.ports") && strstr(err, "no [multiport]"), "%s", em ? "accepted" : err);
     energy_model_destroy(em);
+    tb_end();
+
+    tb_begin("energy_multiport_law");
+    {
+        static energy_table t2;
+        char s[600], f[600];
+        snprintf(s, sizeof s, "%s/sram_mp.ini", tmpdir);
+        snprintf(f, sizeof f, "%s/fpu.ini", tmpdir);
+        char text[2048];
+        snprintf(text, sizeof text, "%s[multiport]\nports = 4\narea = 4\nread = 2\nwrite = 2\nleak = 16\n", small_sram);
+        write_file(s, text);
+        write_file(f, small_fpu);
+        TB_EQ_INT(energy_table_load(&t2, s, f, err, sizeof err), 0);
+        energy_sram fig = {.area_mm2 = 0.1, .read_nj = 0.02, .write_nj = 0.03, .leak_mw = 10};
+        /* 2 ports: ratio^(ln 2 / ln 4) = sqrt(ratio) */
+        TB_EQ_INT(energy_sram_ports(&t2, "node_l1.ports", 2, &fig, err, sizeof err), 0);
+        TB_NEAR(fig.area_mm2, 0.2);
+        TB_NEAR(fig.read_nj, 0.02 * sqrt(2.0));
+        TB_NEAR(fig.leak_mw, 40);
+        energy_sram one = {.area_mm2 = 0.1};
+        TB_EQ_INT(energy_sram_ports(&t2, "x", 1, &one, err, sizeof err), 0);
+        TB_NEAR(one.area_mm2, 0.1);
+    }
     tb_end();
 }
 

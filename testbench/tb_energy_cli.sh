@@ -59,5 +59,6 @@ check energy_cli_summary_area grep -qE '^area +[0-9.]+ mm2: trv .*MRPS/mm2' "$tm
 expect energy_cli_help_module 0 "fifo_ray_bytes" -- "$bin" --help-module energy
 expect energy_cli_no_figure_refused 2 "no SRAM figure" -- "$bin" "${run[@]}" --set node_l1.ways=2 --json "$tmp/x.json"
 check energy_cli_no_figure_no_json test ! -e "$tmp/x.json"
+expect energy_cli_disabled_runs 0 "cycles" -- "$bin" interior --res 16x9 --set node_l1.ways=2 --set energy.enabled=false
 expect energy_cli_missing_table 2 "energy.sram_table" -- "$bin" "${run[@]}" --set energy.sram_table=/nonexistent/sram.ini
 expect energy_cli_range 2 "energy.fifo_ray_bytes" -- "$bin" "${run[@]}" --set energy.fifo_ray_bytes=0

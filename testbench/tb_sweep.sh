@@ -148,15 +148,15 @@ check sweep_sbatch_each_point_once test "$(cat "$tmp"/array-task*.out | grep -c 
 "$sweep" merge "$tmp/array" > /dev/null 2>&1
 check sweep_sbatch_csv_equals_local cmp "$tmp/array/results.csv" "$tmp/full/results.csv"
 
-# --- a point that deadlocks (an undersized FIFO; rtsim exits 1 and marks its
-# JSON failed) is a result: kept, run_failed = 1 in the CSV, not charted
-out=$("$sweep" --set-grid fifo.ray_trv_loop=1,32 --res 32x32 --rtsim "$bin" --stat sched.completed \
+# --- a point that fails (a stack too small for the scene: rtsim exits 1 and
+# marks its JSON failed) is a result: kept, run_failed = 1 in the CSV, not charted
+out=$("$sweep" --set-grid trv.stack_depth=1,64 --res 32x32 --rtsim "$bin" --stat sched.completed \
   --out "$tmp/deadlock" 2>&1); rc=$?
 check sweep_deadlock_exit_0 test $rc -eq 0
 check sweep_deadlock_kept test "$(ls "$tmp/deadlock/results" | grep -c '\.json$')" -eq 2
-check sweep_deadlock_run_failed_column test "$(cut -d, -f6,11 "$tmp/deadlock/results.csv" | sort | tr '\n' ' ')" = "1,1 32,0 fifo.ray_trv_loop,run_failed "
+check sweep_deadlock_run_failed_column test "$(cut -d, -f6,11 "$tmp/deadlock/results.csv" | sort | tr '\n' ' ')" = "1,1 64,0 trv.stack_depth,run_failed "
 check sweep_stat_column test "$(head -n 1 "$tmp/deadlock/results.csv" | cut -d, -f18)" = sched.completed
 check sweep_stat_values test "$(tail -n +2 "$tmp/deadlock/results.csv" | cut -d, -f9 | tr '\n' ' ')" = \
   "$(tail -n +2 "$tmp/deadlock/results.csv" | cut -d, -f18 | tr '\n' ' ')"
-check sweep_deadlock_named grep -q "1 of 2 points deadlocked or livelocked" <<< "$out"
-check sweep_deadlock_not_charted test "$(grep -c '^[0-9]' "$tmp/deadlock/charts/mrps-vs-fifo.ray_trv_loop.dat")" -eq 1
+check sweep_deadlock_named grep -q "1 of 2 points failed" <<< "$out"
+check sweep_deadlock_not_charted test "$(grep -c '^[0-9]' "$tmp/deadlock/charts/mrps-vs-trv.stack_depth.dat")" -eq 1

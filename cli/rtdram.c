@@ -9,13 +9,13 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "model/dram_checker.h"
-#include "model/dram_ctrl.h"
-#include "model/dram_energy.h"
-#include "model/dram_port_trace.h"
-#include "model/dram_report.h"
-#include "model/dram_timing.h"
-#include "model/dram_trace.h"
+#include "model/dram/dram_checker.h"
+#include "model/dram/dram_ctrl.h"
+#include "model/dram/dram_energy.h"
+#include "model/dram/dram_port_trace.h"
+#include "model/dram/dram_report.h"
+#include "model/dram/dram_timing.h"
+#include "model/dram/dram_trace.h"
 
 #ifndef RTSIM_DATA_DIR
 #define RTSIM_DATA_DIR "model/data"

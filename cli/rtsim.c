@@ -12,12 +12,12 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "cli/rtsim_frame.h"
+#include "frame/frame.h"
 #include "kernel/stats.h"
 #include "model/accel_config.h"
 #include "model/accel_top.h"
-#include "model/config.h"
-#include "model/memsys_config.h"
+#include "config/config.h"
+#include "model/mem/memsys_config.h"
 #include "tracer/bvh.h"
 #include "tracer/image.h"
 #include "tracer/scene.h"

@@ -2,7 +2,7 @@
  * paper are marked "ours" in the descriptions and the presets. */
 #include "model/accel_config.h"
 
-#include "model/energy.h"
+#include "model/energy/energy.h"
 
 #include <string.h>
 

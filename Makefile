@@ -4,7 +4,10 @@
 # Layout (docs/design.md "Layout"): one static library per folder
 #   kernel/  -> libkernel.a   (discrete-event kernel; includes nothing else)
 #   tracer/  -> libtracer.a   (software ray tracer; may use nothing from model/)
-#   model/   -> libmodel.a    (the accelerator; uses kernel/ and tracer/ layouts)
+#   model/   -> libmodel.a    (the accelerator, with its subfolders ray/, mem/,
+#                              dram/, energy/; uses kernel/, config/ and the
+#                              tracer's node/triangle layout)
+#   config/  -> libconfig.a   (the typed, ranged configuration store)
 #   cli/     -> one binary per cli/<name>.c in $(BUILD)/bin
 #   testbench/tb_*.c -> one test program each; testbench/tb_*.sh run as scripts
 # Per-area extras (link flags, bench targets) live in mk/*.mk.
@@ -28,7 +31,7 @@ ifeq ($(SAN),1)
   LDFLAGS  += $(SANFLAGS)
 endif
 
-LIBS := model tracer kernel
+LIBS := frame model config tracer kernel
 # Extra libraries per area (set in mk/*.mk): EXTRA_LDLIBS. Recursively
 # expanded on purpose: its $(shell pkg-config ...) parts run when a link recipe
 # runs, after `deps` has installed the packages, not when make reads this file
@@ -38,7 +41,8 @@ EXTRA_LDLIBS =
 BENCH_BINS :=
 -include $(sort $(wildcard mk/*.mk))
 
-lib_srcs = $(sort $(wildcard $(1)/*.c) $(wildcard $(1)/*.cpp))
+# a library's sources: its folder and the folders inside it (model/ray, ...)
+lib_srcs = $(sort $(wildcard $(1)/*.c $(1)/*/*.c) $(wildcard $(1)/*.cpp $(1)/*/*.cpp))
 lib_objs = $(patsubst %,$(BUILD)/obj/%.o,$(call lib_srcs,$(1)))
 LIB_FILES := $(foreach l,$(LIBS),$(if $(call lib_srcs,$(l)),$(BUILD)/lib/lib$(l).a))
 LINK_LIBS = $(LIB_FILES) $(EXTRA_LDLIBS) $(LDLIBS)

@@ -13,13 +13,13 @@
 #include <unistd.h>
 
 #include "cli/output_path.h"
-#include "model/dram_checker.h"
-#include "model/dram_ctrl.h"
-#include "model/dram_energy.h"
-#include "model/dram_port_trace.h"
-#include "model/dram_report.h"
-#include "model/dram_timing.h"
-#include "model/dram_trace.h"
+#include "model/dram/dram_checker.h"
+#include "model/dram/dram_ctrl.h"
+#include "model/dram/dram_energy.h"
+#include "model/dram/dram_port_trace.h"
+#include "model/dram/dram_report.h"
+#include "model/dram/dram_timing.h"
+#include "model/dram/dram_trace.h"
 
 #ifndef RTSIM_DATA_DIR
 #define RTSIM_DATA_DIR "model/data"
@@ -195,6 +195,7 @@ int main(int argc, char **argv)
     clock_gettime(CLOCK_MONOTONIC, &t0);
     double cpu0 = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID);
     ks_interrupt_polling(true);   /* both run loops check ks_interrupted() */
+    dram_trace_set_stop_check(ks_interrupted);
     dram_trace_result res;
     dram_summary s;
     int rc = kernel ? dram_port_trace_run(&spec, &pspec, tf, trace, sk.f || sk.checker ? on_cmd : NULL, &sk, exhaustive,

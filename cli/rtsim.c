@@ -17,12 +17,12 @@
 #include <unistd.h>
 
 #include "cli/rtsim_estimate.h"
-#include "cli/rtsim_frame.h"
+#include "frame/frame.h"
 #include "kernel/stats.h"
 #include "model/accel_config.h"
 #include "model/accel_top.h"
-#include "model/config.h"
-#include "model/memsys_config.h"
+#include "config/config.h"
+#include "model/mem/memsys_config.h"
 #include "tracer/bvh.h"
 #include "tracer/image.h"
 #include "tracer/scene.h"
@@ -114,7 +114,7 @@ static int help_module(const char *name)
         found = 1;
     }
     /* the defaults and ranges of a module's keys are the schema's (written
-     * once, in model/accel_config.c and model/memsys_config.c); the module
+     * once, in model/accel_config.c and model/mem/memsys_config.c); the module
      * table only names them */
     static const char *const module_sections[][4] = {
         {"cache", "node_l1", "node_l2", "prim"}, {"fixed_mem", "memory", NULL, NULL}};

@@ -18,8 +18,8 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli/rtsim_frame.h"
-#include "model/config.h"
+#include "frame/frame.h"
+#include "config/config.h"
 #include "tracer/bounce.h"
 #include "tracer/traverse.h"
 

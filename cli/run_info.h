@@ -38,8 +38,8 @@
 #include <unistd.h>
 
 #include "cli/version.h"
-#include "model/config.h"
-#include "model/dram_timing.h"
+#include "config/config.h"
+#include "model/dram/dram_timing.h"
 
 typedef struct cli_run_info {
     const char *tool;             /* "rtsim" */

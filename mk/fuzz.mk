@@ -8,9 +8,9 @@ FUZZ_NAMES := $(filter-out fuzz_main,$(patsubst testbench/fuzz/%.c,%,$(wildcard 
 FUZZ_BINS := $(patsubst %,$(BUILD)/fuzz/%,$(FUZZ_NAMES))
 all: $(FUZZ_BINS)
 $(BUILD)/fuzz/%: $(BUILD)/obj/testbench/fuzz/%.c.o $(BUILD)/obj/testbench/fuzz/fuzz_main.c.o \
-		$(BUILD)/lib/libmodel.a $(BUILD)/lib/libtracer.a $(BUILD)/lib/libkernel.a
+		$(BUILD)/lib/libframe.a $(BUILD)/lib/libmodel.a $(BUILD)/lib/libconfig.a $(BUILD)/lib/libtracer.a $(BUILD)/lib/libkernel.a
 	@mkdir -p $(@D)
-	$(CXX) $(LDFLAGS) -Wl,--as-needed $(filter %.o,$^) $(BUILD)/lib/libmodel.a $(BUILD)/lib/libtracer.a $(BUILD)/lib/libkernel.a \
+	$(CXX) $(LDFLAGS) -Wl,--as-needed $(filter %.o,$^) $(BUILD)/lib/libframe.a $(BUILD)/lib/libmodel.a $(BUILD)/lib/libconfig.a $(BUILD)/lib/libtracer.a $(BUILD)/lib/libkernel.a \
 		$(EXTRA_LDLIBS) $(LDLIBS) -o $@
 
 FUZZ_SECONDS ?= 60

@@ -2,12 +2,12 @@
  * paper are marked "ours" in the descriptions and the presets. */
 #include "model/accel_config.h"
 
-#include "model/energy.h"
+#include "model/energy/energy.h"
 
 #include <string.h>
 
-#include "model/memsys_config.h"
-#include "model/sort_net.h"
+#include "model/mem/memsys_config.h"
+#include "model/ray/sort_net.h"
 #include "tracer/bvh_layout.h"
 
 static const rtcfg_param trv_params_tab[] = {

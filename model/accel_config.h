@@ -1,5 +1,5 @@
 /* accel_config.h — the configuration keys of the ray side (TRV, IST,
- * scheduler, ray-side FIFOs) as rtcfg schemas (model/config.h), and their
+ * scheduler, ray-side FIFOs) as rtcfg schemas (config/config.h), and their
  * conversion to the units' parameters. Needs no kernel.
  *
  * Sections: [trv] (count, slots, stack, pipeline stages, FLOPs), [ist],
@@ -10,10 +10,10 @@
 
 #include <stddef.h>
 
-#include "model/config.h"
-#include "model/ist.h"
-#include "model/scheduler.h"
-#include "model/trv.h"
+#include "config/config.h"
+#include "model/ray/ist.h"
+#include "model/ray/scheduler.h"
+#include "model/ray/trv.h"
 
 typedef struct accel_params {
     int width;                 /* machine.branching */

@@ -11,13 +11,13 @@
 #include "kernel/fifo.h"
 #include "kernel/interrupt.h"
 #include "kernel/vcd.h"
-#include "model/dram_port.h"
-#include "model/energy.h"
-#include "model/dram_timing.h"
-#include "model/ist.h"
-#include "model/memsys.h"
-#include "model/sort_net.h"
-#include "model/trv.h"
+#include "model/dram/dram_port.h"
+#include "model/energy/energy.h"
+#include "model/dram/dram_timing.h"
+#include "model/ray/ist.h"
+#include "model/mem/memsys.h"
+#include "model/ray/sort_net.h"
+#include "model/ray/trv.h"
 
 #define SLICE_CYCLES 65536u
 /* The kernel detector's margin over the machine's longest wait: the fixed

@@ -30,9 +30,9 @@
 #include "kernel/sim.h"
 #include "kernel/stats.h"
 #include "model/accel_config.h"
-#include "model/accel_ray.h"
-#include "model/config.h"
-#include "model/scheduler.h"
+#include "model/ray/accel_ray.h"
+#include "config/config.h"
+#include "model/ray/scheduler.h"
 
 typedef struct accel_top accel_top;
 

@@ -17,7 +17,8 @@
 # the model: the summary's "host" and "time" lines and build times (and the
 # run folder in paths); JSON fields of host time and speed
 # (names ending in _s, or holding wall, cpu, host or per_s); the JSON's `run`
-# provenance object (command line, date, times); the VCD's $date block.
+# provenance object (command line, date, times); the commit in rttrace's
+# "tool" field; the VCD's $date block.
 # Prints one line per run (same/DIFF) and ends with "N same, N differ";
 # exits 1 when anything differs.
 set -uo pipefail
@@ -42,6 +43,8 @@ def clean(o):
         return {k: clean(v) for k, v in o.items() if not volatile.search(k)}
     if isinstance(o, list):
         return [clean(v) for v in o]
+    if isinstance(o, str):  # rttrace's "tool" names the commit it was built from
+        return re.sub(r"\(git [0-9a-f]+\)", "(git)", o)
     return o
 with open(sys.argv[1]) as f:
     try:

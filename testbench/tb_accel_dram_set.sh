@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# tb_accel_dram_set — the DRAM standard's keys through rtsim (model/memsys_config.h
+# tb_accel_dram_set — the DRAM standard's keys through rtsim (model/mem/memsys_config.h
 # [dram]; docs/dram.md "From rtsim"):
 #  - accepted: --set dram.timing.nCL=14 changes the frame's cycles and the
 #    run's config_hash; a machine .ini with a [dram] section gives the same

@@ -4,7 +4,7 @@
  * A deterministic generator (splitmix64, seed RTSIM_CONFIG_SEED, default 1)
  * draws machine configurations with every registered configuration key
  * within its declared range (the schema tables of model/accel_config.c and
- * model/memsys_config.c, so keys added to a schema join the draw by
+ * model/mem/memsys_config.c, so keys added to a schema join the draw by
  * themselves; keys validated outside rtcfg plug in through extra_keys[]).
  * Each configuration runs twice, once with primary and once with diffuse
  * rays, each on a scene drawn from the four built-in scenes and small random
@@ -41,11 +41,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "cli/rtsim_frame.h"
+#include "frame/frame.h"
 #include "model/accel_config.h"
 #include "model/accel_top.h"
-#include "model/cache.h"
-#include "model/memsys_config.h"
+#include "model/mem/cache.h"
+#include "model/mem/memsys_config.h"
 #include "testbench/tb.h"
 #include "tracer/builtin.h"
 #include "tracer/traverse.h"

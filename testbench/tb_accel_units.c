@@ -9,14 +9,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "model/ist.h"
-#include "model/ist_core.h"
-#include "model/scheduler.h"
-#include "model/trv.h"
-#include "model/sort_net.h"
-#include "model/trv_core.h"
-#include "model/trv_slab.h"
-#include "model/trv_stack.h"
+#include "model/ray/ist.h"
+#include "model/ray/ist_core.h"
+#include "model/ray/scheduler.h"
+#include "model/ray/trv.h"
+#include "model/ray/sort_net.h"
+#include "model/ray/trv_core.h"
+#include "model/ray/trv_slab.h"
+#include "model/ray/trv_stack.h"
 #include "testbench/tb.h"
 
 /* ---------------------------------------------------------------- sort net */

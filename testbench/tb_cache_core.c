@@ -1,9 +1,9 @@
-/* tb_cache_core.c — the generic cache core (model/cache.h): crafted hit, miss,
+/* tb_cache_core.c — the generic cache core (model/mem/cache.h): crafted hit, miss,
  * merge, eviction, MSHR exhaustion, port and bank sequences, and random
  * sequences against a simple reference model (an explicit MRU..LRU list per
  * set, a list of pending lines) that must agree on every result, every popped
  * miss, every line's presence and the statistics. */
-#include "model/cache.h"
+#include "model/mem/cache.h"
 #include "testbench/tb.h"
 
 static cache *mk(uint32_t size, uint32_t line, uint32_t ways, uint32_t banks, uint32_t ports, uint32_t mshrs,

@@ -7,12 +7,12 @@
 #include "kernel/clock.h"
 #include "kernel/sim.h"
 #include "kernel/stats.h"
-#include "model/config.h"
-#include "model/dram_port.h"
-#include "model/fixed_mem.h"
-#include "model/mem_arbiter.h"
-#include "model/mem_dram_adapter.h"
-#include "model/memsys.h"
+#include "config/config.h"
+#include "model/dram/dram_port.h"
+#include "model/mem/fixed_mem.h"
+#include "model/mem/mem_arbiter.h"
+#include "model/mem/mem_dram_adapter.h"
+#include "model/mem/memsys.h"
 #include "testbench/tb.h"
 
 #define MAXREQ 256

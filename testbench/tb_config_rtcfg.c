@@ -1,11 +1,11 @@
-/* tb_config_rtcfg.c — machine configuration (model/config.h): presets load with
+/* tb_config_rtcfg.c — machine configuration (config/config.h): presets load with
  * the paper's numbers, overrides apply with the right priority, every kind of
  * error produces a message naming file:line or the key and the allowed range,
  * write_ini round-trips; the [dram] keys (the DRAM standard file's, a deferred
  * schema) are settable, checked and written. */
-#include "model/config.h"
-#include "model/dram_timing.h"
-#include "model/memsys_config.h"
+#include "config/config.h"
+#include "model/dram/dram_timing.h"
+#include "model/mem/memsys_config.h"
 #include "testbench/tb.h"
 
 #include <unistd.h>

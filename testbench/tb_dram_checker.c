@@ -8,10 +8,10 @@
 
 #include <stdint.h>
 
-#include "model/dram_checker.h"
-#include "model/dram_ctrl.h"
-#include "model/dram_timing.h"
-#include "model/dram_trace.h"
+#include "model/dram/dram_checker.h"
+#include "model/dram/dram_ctrl.h"
+#include "model/dram/dram_timing.h"
+#include "model/dram/dram_trace.h"
 
 static uint64_t rng_state;
 static uint64_t rng(void)

@@ -5,10 +5,10 @@
  * timing checker must find no violation in any of these streams. */
 #include "testbench/tb.h"
 
-#include "model/dram_checker.h"
-#include "model/dram_ctrl.h"
-#include "model/dram_timing.h"
-#include "model/dram_trace.h"
+#include "model/dram/dram_checker.h"
+#include "model/dram/dram_ctrl.h"
+#include "model/dram/dram_timing.h"
+#include "model/dram/dram_trace.h"
 
 #define MAX_REC 64
 

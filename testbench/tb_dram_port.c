@@ -1,5 +1,5 @@
-/* tb_dram_port — the DRAM kernel module (model/dram_port.h) against the standalone
- * driver (model/dram_trace.h, Ramulator's injection policy):
+/* tb_dram_port — the DRAM kernel module (model/dram/dram_port.h) against the standalone
+ * driver (model/dram/dram_trace.h, Ramulator's injection policy):
  *  - a producer keeps the request FIFO full, a consumer drains the response FIFO:
  *    every request's accept cycle and latency and the whole command stream equal
  *    the standalone run of the same trace (32 B requests; and 64 B requests split
@@ -20,11 +20,11 @@
 #include "kernel/module_desc.h"
 #include "kernel/sim.h"
 #include "kernel/stats.h"
-#include "model/dram_checker.h"
-#include "model/dram_ctrl.h"
-#include "model/dram_port.h"
-#include "model/dram_timing.h"
-#include "model/dram_trace.h"
+#include "model/dram/dram_checker.h"
+#include "model/dram/dram_ctrl.h"
+#include "model/dram/dram_port.h"
+#include "model/dram/dram_timing.h"
+#include "model/dram/dram_trace.h"
 
 static dram_spec spec;
 

@@ -8,10 +8,10 @@
 
 #include <stdint.h>
 
-#include "model/dram_checker.h"
-#include "model/dram_ctrl.h"
-#include "model/dram_timing.h"
-#include "model/dram_trace.h"
+#include "model/dram/dram_checker.h"
+#include "model/dram/dram_ctrl.h"
+#include "model/dram/dram_timing.h"
+#include "model/dram/dram_trace.h"
 
 typedef struct digest {
     uint64_t cmd_hash, done_hash;

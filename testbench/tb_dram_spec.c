@@ -8,9 +8,9 @@
 #include <math.h>
 #include <unistd.h>
 
-#include "model/dram_addrmap.h"
-#include "model/dram_energy.h"
-#include "model/dram_timing.h"
+#include "model/dram/dram_addrmap.h"
+#include "model/dram/dram_energy.h"
+#include "model/dram/dram_timing.h"
 
 static const char *CFG = "model/data/lpddr3_1600.ini";
 

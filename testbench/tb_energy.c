@@ -1,4 +1,4 @@
-/* tb_energy — the energy and area model (model/energy_table.h, model/energy.h):
+/* tb_energy — the energy and area model (model/energy/energy_table.h, model/energy/energy.h):
  * table loading and its errors (file:line, key), the figure-matching rule
  * (exact rows, the scaling laws, structures with no figure refused), and
  * energy/power/area arithmetic on a small machine computed by hand here. */
@@ -8,8 +8,8 @@
 #include <string.h>
 
 #include "model/accel_top.h"
-#include "model/energy.h"
-#include "model/energy_table.h"
+#include "model/energy/energy.h"
+#include "model/energy/energy_table.h"
 #include "testbench/tb.h"
 
 static char tmpdir[512];

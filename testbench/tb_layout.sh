@@ -1,8 +1,22 @@
 #!/usr/bin/env bash
 # Architecture rules of docs/design.md "Layout", checked on the sources:
-# kernel/ includes nothing from other project folders; tracer/ nothing from model/.
+# - kernel/ includes nothing from other project folders;
+# - tracer/ nothing from model/ or config/;
+# - config/ (the configuration store) nothing from the other folders;
+# - model/ (all its folders) only tracer/bvh_layout.h from the tracer;
+# - model/dram/ (the LPDDR3 library) does not use the kernel except through
+#   its port (dram_port.[ch], dram_port_trace.[ch]).
 cd "$(dirname "$0")/.."
-bad=$(grep -HnE '#include[[:space:]]*"' kernel/*.[ch] 2>/dev/null | grep -vE '#include[[:space:]]*"(kernel/)?[a-z0-9_]+\.h"')
-if [ -z "$bad" ]; then echo "PASS layout_kernel_includes_only_kernel"; else echo "FAIL layout_kernel_includes_only_kernel: $bad" | head -3; fi
-bad=$(grep -HnE '#include[[:space:]]*"(\.\./)?model/' tracer/*.[ch] tracer/*.cpp 2>/dev/null)
-if [ -z "$bad" ]; then echo "PASS layout_tracer_independent_of_model"; else echo "FAIL layout_tracer_independent_of_model: $bad" | head -3; fi
+rule() { # name, offending lines
+  if [ -z "$2" ]; then echo "PASS $1"; else echo "FAIL $1: $(echo "$2" | head -3 | tr '\n' ' ')"; fi
+}
+rule layout_kernel_includes_only_kernel \
+  "$(grep -HnE '#include[[:space:]]*"' kernel/*.[ch] 2>/dev/null | grep -vE '#include[[:space:]]*"(kernel/)?[a-z0-9_]+\.h"')"
+rule layout_tracer_independent_of_model \
+  "$(grep -HnE '#include[[:space:]]*"(\.\./)?(model|config)/' tracer/*.[ch] tracer/*.cpp 2>/dev/null)"
+rule layout_config_self_contained \
+  "$(grep -HnE '#include[[:space:]]*"' config/*.[ch] 2>/dev/null | grep -vE '#include[[:space:]]*"config/[a-z0-9_]+\.h"')"
+rule layout_model_uses_only_bvh_layout_from_tracer \
+  "$(grep -rHnE '#include[[:space:]]*"(\.\./)?tracer/' model --include='*.[ch]' | grep -v 'tracer/bvh_layout\.h"')"
+rule layout_dram_library_kernel_free \
+  "$(grep -HnE '#include[[:space:]]*"(\.\./)?kernel/' model/dram/*.[ch] 2>/dev/null | grep -vE '^model/dram/dram_port(_trace)?\.[ch]:')"

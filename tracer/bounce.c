@@ -57,20 +57,26 @@ rt_vec3 rt_offset_ray_origin(rt_vec3 p, rt_vec3 n)
     return (rt_vec3){o[0], o[1], o[2]};
 }
 
+bool rt_hit_point_normal(const rt_mesh *mesh, const rt_ray *in, const rt_hit *hit, rt_vec3 *p, rt_vec3 *n)
+{
+    if (hit->prim == RT_NO_HIT || hit->prim >= mesh->ntris || !isfinite(hit->t))
+        return false;
+    *n = rt_mesh_tri_normal(mesh, hit->prim);
+    if (n->x == 0 && n->y == 0 && n->z == 0)
+        return false;
+    /* Face the normal against the incoming ray: leave on the side it came from. */
+    if ((double)n->x * in->dir.x + (double)n->y * in->dir.y + (double)n->z * in->dir.z > 0)
+        *n = (rt_vec3){-n->x, -n->y, -n->z};
+    *p = (rt_vec3){in->org.x + hit->t * in->dir.x, in->org.y + hit->t * in->dir.y, in->org.z + hit->t * in->dir.z};
+    return true;
+}
+
 bool rt_bounce_ray(const rt_mesh *mesh, const rt_ray *in, const rt_hit *hit, uint64_t seed,
                    uint32_t max_bounces, rt_ray *out)
 {
-    if (hit->prim == RT_NO_HIT || hit->prim >= mesh->ntris || in->bounce >= max_bounces ||
-        !isfinite(hit->t))
+    rt_vec3 p, n;
+    if (in->bounce >= max_bounces || !rt_hit_point_normal(mesh, in, hit, &p, &n))
         return false;
-    rt_vec3 n = rt_mesh_tri_normal(mesh, hit->prim);
-    if (n.x == 0 && n.y == 0 && n.z == 0)
-        return false;
-    /* Face the normal against the incoming ray: bounce on the side it came from. */
-    if ((double)n.x * in->dir.x + (double)n.y * in->dir.y + (double)n.z * in->dir.z > 0)
-        n = (rt_vec3){-n.x, -n.y, -n.z};
-    rt_vec3 p = {in->org.x + hit->t * in->dir.x, in->org.y + hit->t * in->dir.y,
-                 in->org.z + hit->t * in->dir.z};
     rt_rng rng = rt_rng_for_ray(seed, in->pixel, in->bounce + 1u);
     float u1 = rt_rng_float(&rng), u2 = rt_rng_float(&rng);
     out->org = rt_offset_ray_origin(p, n);

@@ -42,6 +42,12 @@ bool rt_bounce_ray(const rt_mesh *mesh, const rt_ray *in, const rt_hit *hit,
  * projected up to the hemisphere). */
 rt_vec3 rt_cosine_hemisphere(rt_vec3 n, float u1, float u2);
 
+/* The hit point of ray *in and the hit triangle's unit geometric normal,
+ * turned to face the incoming ray (the hemisphere the ray came from); false
+ * when there is no usable hit (a miss, a bad triangle index, a non-finite
+ * t, a degenerate triangle). Shared by bounce and occlusion rays. */
+bool rt_hit_point_normal(const rt_mesh *mesh, const rt_ray *in, const rt_hit *hit, rt_vec3 *p, rt_vec3 *n);
+
 /* Hit point pushed off the surface along unit normal n (see above). */
 rt_vec3 rt_offset_ray_origin(rt_vec3 p, rt_vec3 n);
 

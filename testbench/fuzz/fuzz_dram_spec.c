@@ -1,8 +1,8 @@
-/* fuzz_dram_spec.c — DRAM standard files (model/dram_timing.h): the INI that
+/* fuzz_dram_spec.c — DRAM standard files (model/dram/dram_timing.h): the INI that
  * rtdram --config and [memory] spec= name; a spec that loads is also turned
  * into a controller, which checks it against its own limits. */
-#include "model/dram_ctrl.h"
-#include "model/dram_timing.h"
+#include "model/dram/dram_ctrl.h"
+#include "model/dram/dram_timing.h"
 #include "testbench/fuzz/fuzz.h"
 #include "testbench/fuzz/fuzz_check.h"
 

@@ -1,10 +1,10 @@
-/* fuzz_dram_trace.c — rtdram request traces (model/dram_trace.h) replayed
+/* fuzz_dram_trace.c — rtdram request traces (model/dram/dram_trace.h) replayed
  * through the LPDDR3 controller of model/data/lpddr3_1600.ini. */
 #include <stdio.h>
 
-#include "model/dram_ctrl.h"
-#include "model/dram_timing.h"
-#include "model/dram_trace.h"
+#include "model/dram/dram_ctrl.h"
+#include "model/dram/dram_timing.h"
+#include "model/dram/dram_trace.h"
 #include "testbench/fuzz/fuzz.h"
 #include "testbench/fuzz/fuzz_check.h"
 

@@ -1,4 +1,4 @@
-/* fuzz_machine.c — machine INI files (model/config.h), as --machine FILE
+/* fuzz_machine.c — machine INI files (config/config.h), as --machine FILE
  * reads them: load, finish, build the accelerator and run it on a 4x4
  * diffuse frame of a small mesh (a 3x3 grid of quads), so that every value a
  * file can reach is also exercised by the model. A run may fail (deadlock,
@@ -6,11 +6,11 @@
 #include <stdio.h>
 #include <string.h>
 
-#include "cli/rtsim_frame.h"
+#include "frame/frame.h"
 #include "model/accel_config.h"
 #include "model/accel_top.h"
-#include "model/config.h"
-#include "model/memsys_config.h"
+#include "config/config.h"
+#include "model/mem/memsys_config.h"
 #include "testbench/fuzz/fuzz.h"
 #include "testbench/fuzz/fuzz_check.h"
 #include "tracer/bvh.h"

@@ -1,0 +1,286 @@
+/* energy_table.c — SRAM and FPU figures and the matching rule (see energy_table.h). */
+#include "model/energy/energy_table.h"
+
+#include <errno.h>
+#include <ini.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Scaling limit of the matching rule (energy_table.h): a row stands for
+ * structures up to 4x larger or smaller in size and in word width. Beyond
+ * that CACTI picks other array organisations and the square-root law is no
+ * longer a fair guess. */
+#define ENERGY_SCALE_LIMIT 4.0
+
+typedef struct loader {
+    energy_table *t;
+    FILE *f;
+    const char *path;
+    int line;
+    int is_fpu;
+    unsigned seen[ENERGY_MAX_ROWS]; /* bit per SRAM key below */
+    unsigned fpu_seen;
+    char *err;
+    size_t errlen;
+    int failed;
+} loader;
+
+/* The line-counting reader lets messages name file:line (inih's handler
+ * does not get the line number). */
+static char *count_reader(char *str, int num, void *stream)
+{
+    loader *L = stream;
+    char *s = fgets(str, num, L->f);
+    if (s)
+        L->line++;
+    return s;
+}
+
+static const char *const sram_keys[] = {"kind", "size", "ways", "line", "ports", "area", "read", "write", "leak"};
+#define N_SRAM_KEYS 9
+
+static int fail(loader *L, const char *fmt, const char *a, const char *b)
+{
+    char msg[256];
+    snprintf(msg, sizeof msg, fmt, a, b);
+    snprintf(L->err, L->errlen, "%s:%d: %s", L->path, L->line, msg);
+    L->failed = 1;
+    return 0;
+}
+
+static int parse_positive(loader *L, const char *name, const char *value, double *out)
+{
+    char *end;
+    errno = 0;
+    double v = strtod(value, &end);
+    if (errno || end == value || *end || !(v > 0 && v < 1e12))
+        return fail(L, "%s = '%s' invalid, allowed a number > 0", name, value);
+    *out = v;
+    return 1;
+}
+
+static int multiport_handler(loader *L, const char *name, const char *value)
+{
+    energy_multiport *m = &L->t->mp;
+    static const char *const keys[] = {"ports", "area", "read", "write", "leak"};
+    double *dst[] = {&m->p0, &m->area, &m->read, &m->write, &m->leak};
+    for (int k = 0; k < 5; k++)
+        if (!strcmp(name, keys[k]))
+            return parse_positive(L, name, value, dst[k]);
+    return fail(L, "unknown key '%s' in [multiport] (allowed ports, area, read, write, leak)%s", name, "");
+}
+
+static int sram_handler(loader *L, const char *section, const char *name, const char *value)
+{
+    energy_table *t = L->t;
+    if (!strcmp(section, "multiport"))
+        return multiport_handler(L, name, value);
+    int r = t->nrows - 1;
+    if (r < 0 || strcmp(t->rows[r].name, section) != 0) {
+        for (int i = 0; i < t->nrows; i++)
+            if (strcmp(t->rows[i].name, section) == 0)
+                return fail(L, "section [%s] appears twice%s", section, "");
+        if (t->nrows == ENERGY_MAX_ROWS)
+            return fail(L, "more than %s rows (section [%s])", "64", section);
+        if (strlen(section) >= sizeof t->rows[0].name)
+            return fail(L, "section name [%s] longer than %s characters", section, "47");
+        r = t->nrows++;
+        memset(&t->rows[r], 0, sizeof t->rows[r]);
+        snprintf(t->rows[r].name, sizeof t->rows[r].name, "%s", section);
+        L->seen[r] = 0;
+    }
+    energy_sram *row = &t->rows[r];
+    int k;
+    for (k = 0; k < N_SRAM_KEYS; k++)
+        if (strcmp(sram_keys[k], name) == 0)
+            break;
+    if (k == N_SRAM_KEYS)
+        return fail(L, "unknown key '%s' (allowed kind, size, ways, line, ports, area, read, write, leak)%s", name, "");
+    L->seen[r] |= 1u << k;
+    switch (k) {
+    case 0:
+        if (strcmp(value, "cache") == 0)
+            row->kind = ENERGY_CACHE;
+        else if (strcmp(value, "ram") == 0)
+            row->kind = ENERGY_RAM;
+        else
+            return fail(L, "kind = '%s' invalid, allowed cache|ram%s", value, "");
+        return 1;
+    case 4:
+        if (strcmp(value, "1rw") == 0)
+            row->ports = ENERGY_1RW;
+        else if (strcmp(value, "1r1w") == 0)
+            row->ports = ENERGY_1R1W;
+        else
+            return fail(L, "ports = '%s' invalid, allowed 1rw|1r1w%s", value, "");
+        return 1;
+    case 1: return parse_positive(L, name, value, &row->size);
+    case 2: return parse_positive(L, name, value, &row->ways);
+    case 3: return parse_positive(L, name, value, &row->line);
+    case 5: return parse_positive(L, name, value, &row->area_mm2);
+    case 6: return parse_positive(L, name, value, &row->read_nj);
+    case 7: return parse_positive(L, name, value, &row->write_nj);
+    default: return parse_positive(L, name, value, &row->leak_mw);
+    }
+}
+
+static const char *const fpu_keys[] = {"energy_pj_per_flop", "area_mm2_per_flop_unit", "leak_mw_per_flop_unit"};
+
+static int fpu_handler(loader *L, const char *section, const char *name, const char *value)
+{
+    if (strcmp(section, "fpu") != 0)
+        return fail(L, "unknown section [%s] (expected [fpu])%s", section, "");
+    double *dst[] = {&L->t->fpu.energy_pj_per_flop, &L->t->fpu.area_mm2_per_flop_unit,
+                     &L->t->fpu.leak_mw_per_flop_unit};
+    for (int k = 0; k < 3; k++)
+        if (strcmp(fpu_keys[k], name) == 0) {
+            L->fpu_seen |= 1u << k;
+            return parse_positive(L, name, value, dst[k]);
+        }
+    return fail(L, "unknown key '%s' in [fpu] (allowed energy_pj_per_flop, area_mm2_per_flop_unit, "
+                   "leak_mw_per_flop_unit)%s", name, "");
+}
+
+static int handler(void *user, const char *section, const char *name, const char *value)
+{
+    loader *L = user;
+    if (L->failed)
+        return 0;
+    return L->is_fpu ? fpu_handler(L, section, name, value) : sram_handler(L, section, name, value);
+}
+
+static int parse_file(loader *L, const char *path)
+{
+    L->path = path;
+    L->line = 0;
+    L->f = fopen(path, "r");
+    if (!L->f) {
+        snprintf(L->err, L->errlen, "%s: cannot open: %s", path, strerror(errno));
+        return -1;
+    }
+    int rc = ini_parse_stream(count_reader, L, handler, L);
+    fclose(L->f);
+    if (L->failed)
+        return -1;
+    if (rc) {
+        snprintf(L->err, L->errlen, "%s:%d: syntax error", path, rc);
+        return -1;
+    }
+    return 0;
+}
+
+int energy_table_load(energy_table *t, const char *sram_path, const char *fpu_path, char *err, size_t errlen)
+{
+    memset(t, 0, sizeof *t);
+    snprintf(t->sram_path, sizeof t->sram_path, "%s", sram_path);
+    snprintf(t->fpu_path, sizeof t->fpu_path, "%s", fpu_path);
+    loader L = {.t = t, .err = err, .errlen = errlen};
+    if (parse_file(&L, sram_path))
+        return -1;
+    if (t->nrows == 0) {
+        snprintf(err, errlen, "%s: no SRAM rows", sram_path);
+        return -1;
+    }
+    if (t->mp.p0 != 0 && !(t->mp.p0 >= 2 && t->mp.area > 0 && t->mp.read > 0 && t->mp.write > 0 && t->mp.leak > 0)) {
+        snprintf(err, errlen, "%s: [multiport] needs ports >= 2 and area, read, write, leak > 0", sram_path);
+        return -1;
+    }
+    for (int r = 0; r < t->nrows; r++) {
+        unsigned need = (1u << N_SRAM_KEYS) - 1;
+        if (t->rows[r].kind == ENERGY_RAM)
+            need &= ~(1u << 2); /* ways: caches only */
+        for (int k = 0; k < N_SRAM_KEYS; k++)
+            if ((need >> k & 1) && !(L.seen[r] >> k & 1)) {
+                snprintf(err, errlen, "%s: [%s] lacks key %s", sram_path, t->rows[r].name, sram_keys[k]);
+                return -1;
+            }
+    }
+    L.is_fpu = 1;
+    if (parse_file(&L, fpu_path))
+        return -1;
+    for (int k = 0; k < 3; k++)
+        if (!(L.fpu_seen >> k & 1)) {
+            snprintf(err, errlen, "%s: [fpu] lacks key %s (a number > 0)", fpu_path, fpu_keys[k]);
+            return -1;
+        }
+    return 0;
+}
+
+static const char *kind_name(energy_kind k) { return k == ENERGY_CACHE ? "cache" : "ram"; }
+static const char *ports_name(energy_ports p) { return p == ENERGY_1RW ? "1rw" : "1r1w"; }
+
+int energy_sram_figure(const energy_table *t, const energy_sram_req *req, energy_sram *out, char *err,
+                       size_t errlen)
+{
+    int best = -1;
+    double best_d = 0;
+    char offer[512] = "";
+    size_t used = 0;
+    for (int r = 0; r < t->nrows; r++) {
+        const energy_sram *row = &t->rows[r];
+        if (row->kind != req->kind || row->ports != req->ports)
+            continue;
+        if (req->kind == ENERGY_CACHE && (row->line != req->line || row->ways != req->ways))
+            continue;
+        if (used < sizeof offer - 64)
+            used += (size_t)snprintf(offer + used, sizeof offer - used, "%s[%s] %.0f B x %.0f B", used ? ", " : "",
+                                     row->name, row->size, row->line);
+        double s = req->size / row->size, w = req->line / row->line;
+        /* RAMs may be any smaller size (auto-sized FIFOs of a few entries):
+         * the laws then overestimate, never underestimate */
+        double s_min = req->kind == ENERGY_RAM ? 0 : 1 / ENERGY_SCALE_LIMIT;
+        if (s <= 0 || s < s_min || s > ENERGY_SCALE_LIMIT || w > ENERGY_SCALE_LIMIT || w < 1 / ENERGY_SCALE_LIMIT)
+            continue;
+        double d = fabs(log(s)) + fabs(log(w));
+        if (best < 0 || d < best_d) {
+            best = r;
+            best_d = d;
+        }
+    }
+    if (best < 0) {
+        if (req->kind == ENERGY_CACHE)
+            snprintf(err, errlen,
+                     "%s: no SRAM figure for a %.0f-byte %s (%.0f-way, %.0f-byte line, %s) in %s: rows of that "
+                     "line, ways and ports: %s; a row covers sizes within 4x",
+                     req->what, req->size, kind_name(req->kind), req->ways, req->line, ports_name(req->ports),
+                     t->sram_path, *offer ? offer : "none");
+        else
+            snprintf(err, errlen,
+                     "%s: no SRAM figure for a %.0f-byte %s of %.0f-byte words (%s) in %s: rows of that kind and "
+                     "ports: %s; a row covers sizes and word widths within 4x",
+                     req->what, req->size, kind_name(req->kind), req->line, ports_name(req->ports), t->sram_path,
+                     *offer ? offer : "none");
+        return -1;
+    }
+    const energy_sram *row = &t->rows[best];
+    double s = req->size / row->size, w = req->line / row->line, e = sqrt(s * w);
+    *out = *row;
+    out->size = req->size;
+    out->line = req->line;
+    out->ways = req->kind == ENERGY_CACHE ? req->ways : 0;
+    out->area_mm2 = row->area_mm2 * s;
+    out->leak_mw = row->leak_mw * s;
+    out->read_nj = row->read_nj * e;
+    out->write_nj = row->write_nj * e;
+    return 0;
+}
+
+int energy_sram_ports(const energy_table *t, const char *what, unsigned ports, energy_sram *fig, char *err,
+                      size_t errlen)
+{
+    if (ports <= 1)
+        return 0;
+    if (t->mp.p0 < 2) {
+        snprintf(err, errlen, "%s: %u ports, but %s has no [multiport] figure (1-port arrays only)", what, ports,
+                 t->sram_path);
+        return -1;
+    }
+    double e = log((double)ports) / log(t->mp.p0);
+    fig->area_mm2 *= pow(t->mp.area, e);
+    fig->read_nj *= pow(t->mp.read, e);
+    fig->write_nj *= pow(t->mp.write, e);
+    fig->leak_mw *= pow(t->mp.leak, e);
+    return 0;
+}

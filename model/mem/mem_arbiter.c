@@ -1,0 +1,183 @@
+/* mem_arbiter.c — round-robin request arbiter with response routing; see
+ * mem_arbiter.h. */
+#include "model/mem/mem_arbiter.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+static const ks_desc_item items[] = {
+    {KS_DESC_PARAM, "inputs", "int", "4 / 2", "1..256", "requesters (TRV L1s at the L2; L2 + prim at memory)"},
+    {KS_DESC_PORT, "req_in[i]", "in fifo<mem_req>", "", "", "requests of requester i"},
+    {KS_DESC_PORT, "resp_out[i]", "out fifo<mem_resp>", "", "", "responses to requester i (by src mod N)"},
+    {KS_DESC_PORT, "req_out", "out fifo<mem_req>", "", "", "granted requests, src = src * N + i"},
+    {KS_DESC_PORT, "resp_in", "in fifo<mem_resp>", "", "", "responses from the shared side"},
+    {KS_DESC_STAT, "grants", "requests", "", "", "requests granted"},
+    {KS_DESC_STAT, "grants_#", "requests", "", "", "requests granted to input #"},
+    {KS_DESC_STAT, "conflict_cycles", "cycles", "", "", "cycles with more than one requester ready"},
+    {KS_DESC_STAT, "responses", "responses", "", "", "responses routed back"},
+    {KS_DESC_END, 0, 0, 0, 0, 0},
+};
+const ks_module_desc mem_arbiter_desc = {"arbiter", "round-robin arbiter of memory requests", items};
+
+struct mem_arbiter {
+    char *name;
+    ks_clocked *proc;
+    int n, last;
+    ks_fifo **req_in, **resp_out;
+    ks_fifo *req_out, *resp_in;
+    uint64_t *grants_per;
+    uint64_t grants, conflict_cycles, responses;
+};
+
+static int step(void *user, uint64_t cycle)
+{
+    (void)cycle;
+    mem_arbiter *a = user;
+    int progress = 0;
+    if (ks_fifo_can_write(a->req_out)) {
+        int ready = 0, pick = -1;
+        for (int k = 1; k <= a->n; k++) {
+            int i = (a->last + k) % a->n;
+            if (ks_fifo_can_read(a->req_in[i])) {
+                ready++;
+                if (pick < 0)
+                    pick = i;
+            }
+        }
+        if (pick >= 0) {
+            mem_req r = {0};
+            KS_FIFO_READ(a->req_in[pick], &r);
+            r.src = (uint16_t)(r.src * a->n + pick);
+            KS_FIFO_WRITE(a->req_out, &r);
+            a->last = pick;
+            a->grants++;
+            a->grants_per[pick]++;
+            a->conflict_cycles += ready > 1;
+            progress++;
+        }
+    }
+    const mem_resp *h = ks_fifo_peek(a->resp_in);
+    if (h) {
+        int i = h->src % a->n;
+        ks_fifo *out = a->resp_out[i];
+        if (!out) {
+            fprintf(stderr, "%s: response for input %d, which has no response FIFO\n", a->name, i);
+            abort(); /* wiring bug */
+        }
+        if (ks_fifo_can_write(out)) {
+            mem_resp r = {0};
+            KS_FIFO_READ(a->resp_in, &r);
+            r.src = (uint16_t)(r.src / a->n);
+            KS_FIFO_WRITE(out, &r);
+            a->responses++;
+            progress++;
+        }
+    }
+    return progress;
+}
+
+static int busy_cb(void *user) { return mem_arbiter_busy(user); }
+static void describe_cb(void *user, char *buf, unsigned cap) { mem_arbiter_describe(user, buf, cap); }
+
+mem_arbiter *mem_arbiter_create(ks_sim *sim, ks_clock *clk, const char *name, int n, ks_fifo *const *req_in,
+                                ks_fifo *const *resp_out, ks_fifo *req_out, ks_fifo *resp_in, char *err,
+                                size_t errlen)
+{
+    (void)sim;
+    if (n < 1 || n > 256 || !req_out || !resp_in) {
+        snprintf(err, errlen, "%s: needs 1..256 inputs and both shared FIFOs (got %d)", name, n);
+        return NULL;
+    }
+    for (int i = 0; i < n; i++)
+        if (!req_in[i]) {
+            snprintf(err, errlen, "%s: input %d has no request FIFO", name, i);
+            return NULL;
+        }
+    mem_arbiter *a = calloc(1, sizeof *a);
+    if (!a)
+        goto oom;
+    a->n = n;
+    a->last = n - 1;
+    a->name = strdup(name);
+    a->req_in = calloc((size_t)n, sizeof *a->req_in);
+    a->resp_out = calloc((size_t)n, sizeof *a->resp_out);
+    a->grants_per = calloc((size_t)n, sizeof *a->grants_per);
+    if (!a->name || !a->req_in || !a->resp_out || !a->grants_per) {
+        mem_arbiter_destroy(a);
+        goto oom;
+    }
+    memcpy(a->req_in, req_in, (size_t)n * sizeof *a->req_in);
+    if (resp_out)
+        memcpy(a->resp_out, resp_out, (size_t)n * sizeof *a->resp_out);
+    a->req_out = req_out;
+    a->resp_in = resp_in;
+    a->proc = ks_clocked_create(clk, name, step, a);
+    ks_clocked_set_describe(a->proc, busy_cb, describe_cb);
+    for (int i = 0; i < n; i++) {
+        ks_clocked_wake_on(a->proc, ks_fifo_ev_written(req_in[i]));
+        if (a->resp_out[i])
+            ks_clocked_wake_on(a->proc, ks_fifo_ev_freed(a->resp_out[i]));
+    }
+    ks_clocked_wake_on(a->proc, ks_fifo_ev_freed(req_out));
+    ks_clocked_wake_on(a->proc, ks_fifo_ev_written(resp_in));
+    return a;
+oom:
+    snprintf(err, errlen, "%s: out of memory", name);
+    return NULL;
+}
+
+void mem_arbiter_destroy(mem_arbiter *a)
+{
+    if (!a)
+        return;
+    free(a->name);
+    free(a->req_in);
+    free(a->resp_out);
+    free(a->grants_per);
+    free(a);
+}
+
+int mem_arbiter_register_stats(mem_arbiter *a, ks_stats *reg, const char *prefix)
+{
+    const ks_module_desc *d = &mem_arbiter_desc;
+    if (ks_stat_decl_counter(reg, d, prefix, "grants", &a->grants))
+        return -1;
+    for (int i = 0; i < a->n; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "grants_%d", i);
+        if (ks_stat_decl_counter(reg, d, prefix, name, &a->grants_per[i]))
+            return -1;
+    }
+    if (ks_stat_decl_counter(reg, d, prefix, "conflict_cycles", &a->conflict_cycles))
+        return -1;
+    return ks_stat_decl_counter(reg, d, prefix, "responses", &a->responses);
+}
+
+uint64_t mem_arbiter_grants(const mem_arbiter *a, int input)
+{
+    return input < 0 ? a->grants : input < a->n ? a->grants_per[input] : 0;
+}
+
+int mem_arbiter_busy(const mem_arbiter *a)
+{
+    (void)a;
+    return 0; /* holds nothing of its own: all its work sits in FIFOs */
+}
+
+void mem_arbiter_describe(const mem_arbiter *a, char *buf, size_t len)
+{
+    int waiting = 0;
+    for (int i = 0; i < a->n; i++)
+        waiting += ks_fifo_can_read(a->req_in[i]);
+    const mem_resp *h = ks_fifo_peek(a->resp_in);
+    int n = snprintf(buf, len, "%d requesters waiting, last grant %d", waiting, a->last);
+    if (n < 0 || (size_t)n >= len)
+        return;
+    if (waiting && !ks_fifo_can_write(a->req_out))
+        n += snprintf(buf + n, len - (size_t)n, "; waits for space in %s", ks_fifo_name(a->req_out));
+    if (h && n >= 0 && (size_t)n < len && a->resp_out[h->src % a->n] &&
+        !ks_fifo_can_write(a->resp_out[h->src % a->n]))
+        snprintf(buf + n, len - (size_t)n, "; response waits for space in %s",
+                 ks_fifo_name(a->resp_out[h->src % a->n]));
+}

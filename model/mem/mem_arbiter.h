@@ -1,0 +1,41 @@
+/* mem_arbiter.h — round-robin arbiter of N mem_req FIFOs onto one, routing
+ * the mem_resp stream back to the requester's FIFO.
+ *
+ * Contract (one clocked process):
+ *  - Each cycle at most one request is granted: the first readable input at
+ *    or after the one following the last grant (round robin), and only when
+ *    req_out has room. The request leaves with src = src_in * N + input, so
+ *    arbiters compose (the response path peels one level: input = src mod N,
+ *    src_out = src / N); N * (largest src) must stay below 65536.
+ *  - Each cycle at most one response is routed from resp_in to resp_out[src
+ *    mod N]; a full output stalls the response stream (in order, like a bus).
+ * Statistics: PREFIX.grants, PREFIX.grants_<i>, PREFIX.conflict_cycles
+ * (cycles with more than one requester ready), PREFIX.responses. */
+#ifndef RTSIM_MODEL_MEM_ARBITER_H
+#define RTSIM_MODEL_MEM_ARBITER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#include "kernel/clock.h"
+#include "kernel/fifo.h"
+#include "kernel/module_desc.h"
+#include "kernel/stats.h"
+#include "model/mem/mem_msg.h"
+
+typedef struct mem_arbiter mem_arbiter;
+
+extern const ks_module_desc mem_arbiter_desc;
+
+/* req_in[i] / resp_out[i]: per requester (resp_out[i] may be NULL for a
+ * requester that never gets responses); req_out / resp_in: the shared side. */
+mem_arbiter *mem_arbiter_create(ks_sim *sim, ks_clock *clk, const char *name, int n, ks_fifo *const *req_in,
+                                ks_fifo *const *resp_out, ks_fifo *req_out, ks_fifo *resp_in, char *err,
+                                size_t errlen);
+void mem_arbiter_destroy(mem_arbiter *a);
+int mem_arbiter_register_stats(mem_arbiter *a, ks_stats *reg, const char *prefix);
+uint64_t mem_arbiter_grants(const mem_arbiter *a, int input);
+int mem_arbiter_busy(const mem_arbiter *a);
+void mem_arbiter_describe(const mem_arbiter *a, char *buf, size_t len);
+
+#endif

@@ -60,8 +60,11 @@ TB_BINS  := $(patsubst testbench/%.c,$(BUILD)/testbench/%,$(TB_SRCS))
 all: $(CLI_BINS) $(TB_BINS)
 
 $(foreach l,$(LIBS),$(eval $(BUILD)/lib/lib$(l).a: $(call lib_objs,$(l))))
+# The archive is made anew: `ar r` into an existing one would keep the
+# members of sources since moved or deleted (duplicate symbols at link time).
 $(BUILD)/lib/%.a:
 	@mkdir -p $(@D)
+	@rm -f $@
 	$(AR) rcs $@ $^
 
 # Every tool reports the commit it was built from and whether the tree was

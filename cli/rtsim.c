@@ -13,6 +13,7 @@
 #include <unistd.h>
 
 #include "cli/rtsim_frame.h"
+#include "fidelity/fidelity.h"
 #include "kernel/stats.h"
 #include "model/accel_config.h"
 #include "model/accel_top.h"
@@ -33,6 +34,8 @@ static void usage(FILE *out)
             "             [--set KEY=VALUE]... [--json FILE] [--vcd FILE] [--vcd-window A:B]\n"
             "             [--vcd-filter GLOB] [--heatmap FILE] [--autosize-fifos OUT.ini]\n"
             "             [--help-module NAME] [--quiet] [--exhaustive] [--help] [--version]\n"
+            "             [--fidelity full|fixed-mem|functional|sampled] [--accuracy P%%]\n"
+            "             [--sample-rate R]\n"
             "SCENE: a built-in scene (interior, hairball, city, forest; default interior) or an\n"
             "       .obj/.ply(.gz)/.scene file. Defaults: 1280x720, mbvh4, primary rays,\n"
             "       4 bounces, seed 1.\n"
@@ -44,6 +47,10 @@ static void usage(FILE *out)
             "--autosize-fifos F  run, then write the machine with every FIFO shrunk to the\n"
             "                    first power of two above its maximum occupancy (paper sec. 3)\n"
             "--exhaustive        step every unit every cycle (no idle skipping; reference mode)\n"
+            "--fidelity LEVEL    full (default), fixed-mem, functional or sampled: cheaper models,\n"
+            "                    each result with its error estimate and flag (docs/fidelity.md)\n"
+            "--accuracy P%%       pick the cheapest level expected within P%% (falls back to full)\n"
+            "--sample-rate R     sampled: fraction of the pixels modelled (0 < R <= 1; default 1/16)\n"
 "--help-module NAME  parameters, ports and statistics of a module (trv, ist, sched,\n"
             "                    cache, arbiter, fixed_mem, dram, ...) and the keys of its\n"
             "                    configuration section (node_l1, node_l2, prim, memory, fifo, machine)\n");
@@ -166,7 +173,8 @@ static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admi
     fflush(stderr);
 }
 
-static int write_json(ks_stats *st, const char *path, char *err, size_t errlen)
+/* head: JSON members put first (the fidelity strings, fidelity.h). */
+static int write_json(ks_stats *st, const char *path, const char *head, char *err, size_t errlen)
 {
     char tmp[4096];
     snprintf(tmp, sizeof tmp, "%s.tmp", path);
@@ -175,7 +183,17 @@ static int write_json(ks_stats *st, const char *path, char *err, size_t errlen)
         snprintf(err, errlen, "--json %s: cannot create: %s", path, strerror(errno));
         return -1;
     }
-    int rc = ks_stats_write_json(st, f);
+    char *mem = NULL;
+    size_t memlen = 0;
+    FILE *ms = open_memstream(&mem, &memlen);
+    int rc = ms ? ks_stats_write_json(st, ms) : -1;
+    if (ms && fclose(ms))
+        rc = -1;
+    if (rc == 0 && mem && !strncmp(mem, "{\n", 2))
+        rc = fputs("{\n", f) < 0 || fputs(head, f) < 0 || fputs(mem + 2, f) < 0 ? -1 : 0;
+    else if (rc == 0 && mem)
+        rc = fputs(mem, f) < 0 ? -1 : 0;
+    free(mem);
     if (fclose(f) || rc) {
         remove(tmp);
         snprintf(err, errlen, "--json %s: write error", path);
@@ -187,6 +205,40 @@ static int write_json(ks_stats *st, const char *path, char *err, size_t errlen)
         return -1;
     }
     return 0;
+}
+
+/* A cheaper fidelity level or --accuracy (fidelity.h): runs, prints the
+ * summary and writes the JSON. Returns the exit status. */
+static int run_fidelity(rtcfg *cfg, const rt_scene *sc, const rt_view *view, const rt_bvh_image *img, uint32_t w,
+                        uint32_t h, bool diffuse, uint32_t bounces, uint64_t seed, fid_level level, double accuracy,
+                        double sample_rate, bool quiet, const char *json)
+{
+    char err[8192];
+    fid_job job = {cfg, &sc->mesh, view, img, w, h, diffuse, bounces, seed, sample_rate, NULL, NULL};
+    fid_outcome fo;
+    double t0 = wall(), c0 = cpu();
+    int rc = fid_run(&job, level, accuracy, &fo, err, sizeof err);
+    double host_s = wall() - t0, cpu_s = cpu() - c0;
+    if (rc)
+        fprintf(stderr, "rtsim: %s\n", err);
+    if (!quiet && (rc == 0 || fo.top)) {
+        printf("scene       %s, view %s, %ux%u, %s rays\n", sc->name, view->name, w, h, diffuse ? "diffuse" : "primary");
+        printf("BVH         %u nodes x %u B, %u triangles\n", img->nnodes, img->node_bytes, img->ntris);
+        fid_outcome_print(&fo, stdout);
+        fid_print_summary(&fo.res, stdout);
+        printf("host        %.3f s CPU (%.3f s wall), %.0f K rays/s (CPU)\n", cpu_s, host_s,
+               cpu_s > 0 ? fo.rays / cpu_s / 1e3 : 0.0);
+    }
+    if (json && (rc == 0 || fo.top)) {
+        char jhead[2048];
+        fid_json_strings(&fo.res, jhead, sizeof jhead);
+        if (write_json(fid_outcome_stats(&fo), json, jhead, err, sizeof err)) {
+            fprintf(stderr, "rtsim: %s\n", err);
+            rc = rc ? rc : 2;
+        }
+    }
+    fid_outcome_free(&fo);
+    return rc;
 }
 
 /* Bad usage inside main: free the --set list, print, exit 2. */
@@ -202,11 +254,13 @@ int main(int argc, char **argv)
     const char *json = NULL, *vcd = NULL, *vcd_filter = NULL, *heatmap = NULL, *autosize = NULL;
     const char *res = "1280x720";
     bool diffuse = false, quiet = false, exhaustive = false;
+    fid_level level = FID_FULL;
+    double accuracy = 0, sample_rate = 0;
     uint64_t bounces = 4, seed = 1, vcd_a = 0, vcd_b = 0;
     const char **sets = calloc((size_t)argc, sizeof *sets);
     int nsets = 0;
     enum { O_VIEW = 256, O_VIEWS, O_MACHINE, O_RAYS, O_RES, O_BOUNCES, O_SEED, O_SET, O_JSON, O_VCD, O_VCDW, O_VCDF,
-           O_HEAT, O_AUTO, O_HELPMOD, O_QUIET, O_EXHAUSTIVE, O_HELP, O_VERSION };
+           O_HEAT, O_AUTO, O_HELPMOD, O_QUIET, O_EXHAUSTIVE, O_HELP, O_VERSION, O_FIDELITY, O_ACCURACY, O_SAMPLE };
     static const struct option opts[] = {
         {"view", required_argument, 0, O_VIEW},        {"views", required_argument, 0, O_VIEWS},
         {"machine", required_argument, 0, O_MACHINE},  {"rays", required_argument, 0, O_RAYS},
@@ -217,6 +271,8 @@ int main(int argc, char **argv)
         {"heatmap", required_argument, 0, O_HEAT},     {"autosize-fifos", required_argument, 0, O_AUTO},
         {"help-module", required_argument, 0, O_HELPMOD}, {"quiet", no_argument, 0, O_QUIET}, {"exhaustive", no_argument, 0, O_EXHAUSTIVE},
         {"help", no_argument, 0, O_HELP},              {"version", no_argument, 0, O_VERSION},
+        {"fidelity", required_argument, 0, O_FIDELITY}, {"accuracy", required_argument, 0, O_ACCURACY},
+        {"sample-rate", required_argument, 0, O_SAMPLE},
         {0, 0, 0, 0}};
     if (!sets)
         return 2;
@@ -264,6 +320,21 @@ int main(int argc, char **argv)
         case O_HELPMOD: free(sets); return help_module(optarg);
         case O_QUIET: quiet = true; break;
         case O_EXHAUSTIVE: exhaustive = true; break;
+        case O_FIDELITY:
+            if (!fid_level_parse(optarg, &level))
+                USAGE_ERR("--fidelity %s: allowed values are full, fixed-mem, functional, sampled%s", optarg, "");
+            break;
+        case O_ACCURACY:
+            if (!fid_accuracy_parse(optarg, &accuracy))
+                USAGE_ERR("--accuracy %s: expected a percentage in (0, 100], e.g. 2%%%s", optarg, "");
+            break;
+        case O_SAMPLE: {
+            char *end;
+            sample_rate = strtod(optarg, &end);
+            if (end == optarg || *end || !(sample_rate > 0) || sample_rate > 1)
+                USAGE_ERR("--sample-rate %s: allowed range 0 < R <= 1%s", optarg, "");
+            break;
+        }
         case O_HELP: usage(stdout); free(sets); return 0;
         case O_VERSION: printf("rtsim %s (git %s)\n", RTSIM_VERSION, RTSIM_GIT); free(sets); return 0;
         case '?':
@@ -281,6 +352,10 @@ int main(int argc, char **argv)
         scene_name = argv[optind++];
     if (optind < argc) {
         USAGE_ERR("unexpected argument %s (one SCENE only)%s", argv[optind], "");
+    }
+    if ((level != FID_FULL || accuracy > 0) && (vcd || heatmap || autosize || exhaustive)) {
+        USAGE_ERR("--vcd, --heatmap, --autosize-fifos and --exhaustive need --fidelity full (%s asked)%s",
+                  accuracy > 0 ? "--accuracy" : fid_level_name(level), "");
     }
     if (heatmap && !rt_image_format_supported(heatmap)) {
         USAGE_ERR("--heatmap %s: the file must end in .png or .exr%s", heatmap, "");
@@ -328,6 +403,12 @@ int main(int argc, char **argv)
     if (!rtsim_frame_init(&frame, &sc.mesh, view, w, h, diffuse, (uint32_t)bounces, seed, heatmap != NULL, &src, err,
                           sizeof err))
         goto fail;
+    if (level != FID_FULL || accuracy > 0) {
+        /* a cheaper level or the automatic choice: fidelity/ runs it */
+        rc = run_fidelity(cfg, &sc, view, &img, w, h, diffuse, (uint32_t)bounces, seed, level, accuracy, sample_rate,
+                          quiet, json);
+        goto done;
+    }
     accel_image aimg = rtsim_image(&img);
     accel_top_opts o = {0};
     o.vcd_path = vcd;
@@ -338,6 +419,12 @@ int main(int argc, char **argv)
     top = accel_top_create(cfg, &aimg, &src, &o, err, sizeof err);
     if (!top)
         goto fail;
+    fid_result fres;
+    fid_result_full(&fres);
+    if (fid_register_stats(&fres, accel_top_stats(top))) {
+        snprintf(err, sizeof err, "fidelity statistics: %s", ks_stats_error(accel_top_stats(top)));
+        goto fail;
+    }
     progress_state ps = {!quiet && isatty(2), src.primary_count, wall(), &src};
     double t0 = wall(), c0 = cpu();
     int run_rc = accel_top_run(top, progress_cb, &ps, err, sizeof err);
@@ -351,11 +438,14 @@ int main(int argc, char **argv)
         printf("scene       %s, view %s, %ux%u, %s rays\n", sc.name, view->name, w, h, diffuse ? "diffuse" : "primary");
         printf("BVH         %u nodes x %u B, %u triangles\n", img.nnodes, img.node_bytes, img.ntris);
         accel_top_print_summary(top, stdout);
+        fid_print_summary(&fres, stdout);
         printf("host        %.3f s CPU (%.3f s wall), %.2f M simulated cycles/s, %.0f K rays/s (CPU)\n", cpu_s, host_s,
                cpu_s > 0 ? (double)accel_top_cycles(top) / cpu_s / 1e6 : 0.0,
                cpu_s > 0 ? (double)accel_top_rays(top) / cpu_s / 1e3 : 0.0);
     }
-    if (json && write_json(accel_top_stats(top), json, err, sizeof err)) {
+    char jhead[2048];
+    fid_json_strings(&fres, jhead, sizeof jhead);
+    if (json && write_json(accel_top_stats(top), json, jhead, err, sizeof err)) {
         fprintf(stderr, "rtsim: %s\n", err);
         rc = rc ? rc : 2;
     }

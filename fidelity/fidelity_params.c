@@ -34,7 +34,7 @@ static const fid_params defaults = {
     .sample_groups = 4,
     .sample_t95 = 3.182,           /* Student t, 3 degrees of freedom, two-sided 95% */
     .sample_max_err = 0.10,
-    .tile = 8,
+    .tile = 1,
 };
 
 const fid_params *fid_params_get(void) { return &defaults; }

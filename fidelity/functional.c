@@ -223,6 +223,7 @@ static void throughput(const fid_job *job, fid_func *o)
     double rays = (double)o->rays, prim = o->primaries ? (double)o->primaries : 1;
     double ray_lat = rays > 0 ? fmax(slots * b[top] / rays, o->cyc_lat * slots / rays) : 0;
     o->cyc_tail = ray_lat * (rays / prim);
+    o->cyc_bound = b[top];
     o->cycles = ceil(b[top] + o->cyc_tail);
     o->runner_up = b[top] > 0 ? second / b[top] : 0;
     o->clock_mhz = clock;

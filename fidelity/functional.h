@@ -40,6 +40,7 @@ typedef struct fid_func {
     double mem_latency;           /* cycles, request to data at the solved utilisation */
     double dram_util;
     double cyc_trv, cyc_ist, cyc_dram, cyc_lat, cyc_tail, cycles;
+    double cyc_bound;             /* the largest bound (cycles without the drain) */
     const char *bound;            /* "trv", "ist", "dram", "latency" */
     double runner_up;             /* second largest bound / largest (1 = tie) */
     double mrps, clock_mhz;

@@ -428,7 +428,7 @@ static int run_fixed_mem(const fid_job *job, fid_outcome *o, char *err, size_t e
         if (rc == 0 && !(rc = set_fixed(cfg, L, pj, err, errlen)))
             rc = run_model(job, cfg, NULL, 0, &fin, &o->top, err, errlen);
         snprintf(r->detail, sizeof r->detail,
-                 "full-fidelity pilot on %u of %u pixels (tiles): mean memory latency %.1f cycles, %.2f GB/s "
+                 "full-fidelity pilot on %u of %u pixels (row bands): mean memory latency %.1f cycles, %.2f GB/s "
                  "(%.0f%% of peak), %.0f%% row hits; fixed memory calibrated to latency %.0f cycles, %.0f pJ/byte",
                  px ? n : job->width * job->height, job->width * job->height, full.mem_latency, full.dram_gbs,
                  100.0 * util, 100.0 * full.row_hit, L, pj);

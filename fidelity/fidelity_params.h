@@ -17,6 +17,7 @@ typedef struct fid_params {
     double miss_waiters;          /* rays waiting per missing line (Little's law term) */
     double func_err_base;         /* functional: relative MRPS error when one bound dominates */
     double func_err_tie;          /* functional: added error as the runner-up bound reaches a tie */
+    double func_err_mem;          /* functional: added error per unit of DRAM utilisation x row-miss rate */
     double func_tie_flag;         /* functional: runner-up/bound ratio from which it is flagged */
     double func_err_dram;         /* functional: relative DRAM MB error (order of accesses) */
     double func_err_energy;       /* functional: relative mJ/frame error */
@@ -30,7 +31,8 @@ typedef struct fid_params {
     double sample_rate;           /* default fraction of the pixels */
     int sample_groups;            /* independent groups (confidence interval) */
     double sample_t95;            /* Student t, 95%, sample_groups - 1 degrees of freedom */
-    double sample_max_err;        /* estimated error beyond which a sampled result is flagged */
+    double sample_max_err;
+    double sample_err_floor;      /* sampled: floor added to every estimate (bias of the ratio estimator) */        /* estimated error beyond which a sampled result is flagged */
     int tile;                     /* tile edge, pixels */
 } fid_params;
 

@@ -668,7 +668,7 @@ static int run_auto(const fid_job *job, double acc, fid_outcome *o, char *err, s
         return 2;
     }
     trial.res.accuracy = acc;
-    char why[512] = "";
+    char why[256] = "";
     int rc = run_functional(job, &trial, &ff, err, errlen);
     if (rc)
         goto out;

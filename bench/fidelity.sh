@@ -43,7 +43,7 @@ for w in "interior_640x360_primary interior --res 640x360 --rays primary" \
   full=$med full_mrps=$mrps
   for lv in fixed-mem functional sampled; do
     run "$@" --fidelity "$lv"
-    sp=$(awk -v o="$med" -v r="$full" 'BEGIN { printf "%.2f", o > 0 ? r / o : 0 }')
+    sp=$(awk -v o="$med" -v r="$full" 'BEGIN { printf "%.2f", (o > 0 ? r / o : 0) }')
     er=$(awk -v a="$mrps" -v b="$full_mrps" 'BEGIN { e = (a / b - 1) * 100; printf "%+.1f%%", e }')
     printf '%-44s %10.3f %10.3f %8sx %12s %8s\n' "${name}_$lv" "$med" "$full" "$sp" "$er" "$flag" >&2
     echo "${name}_$lv,$med,$full,$sp" >>"$csv"

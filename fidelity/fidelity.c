@@ -119,16 +119,16 @@ void fid_json_strings(const fid_result *r, char *buf, size_t len)
              fid_level_name(r->level), a, b);
 }
 
-/* ---- pixel subsets: stratified tiles ------------------------------------ */
+/* ---- pixel subsets: interleaved row bands ------------------------------- */
 
-/* Pixels of group g of `groups` interleaved sets of bands (fp->tile rows
+/* Pixels of group g of `groups` interleaved sets of bands (fp->band_rows rows
  * each, the full width), each set taking one band in `period`, in scanline
  * order. Whole rows keep the frame's order of rays within a row, and so its
  * cache locality (tiles spread over a row lose it: docs/fidelity.md). */
-static uint32_t *tile_subset(const fid_job *job, uint32_t period, uint32_t group, uint32_t groups, uint32_t *n)
+static uint32_t *band_subset(const fid_job *job, uint32_t period, uint32_t group, uint32_t groups, uint32_t *n)
 {
     const fid_params *fp = fid_params_get();
-    uint32_t T = (uint32_t)fp->tile, w = job->width, h = job->height;
+    uint32_t T = (uint32_t)fp->band_rows, w = job->width, h = job->height;
     uint32_t *px = malloc((size_t)w * h * sizeof *px);
     *n = 0;
     if (!px)
@@ -288,7 +288,7 @@ static int own_stats(fid_outcome *o)
                                &w->runner_up);
     }
     if (w->is_sampled) {
-        rc |= ks_stat_counter_ref(st, "sample.groups", "groups", "independent pixel-tile groups modelled",
+        rc |= ks_stat_counter_ref(st, "sample.groups", "groups", "independent groups of pixel rows modelled",
                                   &w->samples);
         rc |= ks_stat_counter_ref(st, "sample.rays", "rays", "rays through the full model", &w->sample_rays);
         rc |= ks_stat_real_ref(st, "sample.rate", "fraction", "fraction of the pixels modelled", &w->sample_rate);
@@ -376,7 +376,7 @@ static uint32_t pilot_period(const fid_job *job, double fraction)
     return (uint32_t)llround(1.0 / fraction);
 }
 
-/* fixed-mem: a full pilot on stratified tiles measures the memory (mean
+/* fixed-mem: a full pilot on interleaved row bands measures the memory (mean
  * latency, achieved bandwidth, DRAM energy per byte); the fixed model's
  * latency is fitted so that the pilot's cycles match (two fixed pilots and
  * a secant step); then the whole frame runs on the fitted fixed memory. */
@@ -395,7 +395,7 @@ static int run_fixed_mem(const fid_job *job, fid_outcome *o, char *err, size_t e
     save_keys(cfg, &saved);
     uint32_t period = pilot_period(job, fp->pilot_fraction), n = 0;
     uint32_t *px = NULL;
-    if (period > 1 && !(px = tile_subset(job, period, 0, 1, &n))) {
+    if (period > 1 && !(px = band_subset(job, period, 0, 1, &n))) {
         snprintf(err, errlen, "out of memory");
         return 2;
     }
@@ -513,7 +513,7 @@ static int run_functional(const fid_job *job, fid_outcome *o, fid_func *ff, char
     functional_errors(ff, r);
     /* energy: a small cycle-model pilot scaled by the functional counts */
     uint32_t period = pilot_period(job, fp->pilot_fraction / 4), n = 0;
-    uint32_t *px = period > 1 ? tile_subset(job, period, 0, 1, &n) : NULL;
+    uint32_t *px = period > 1 ? band_subset(job, period, 0, 1, &n) : NULL;
     model_fig m;
     fid_func fs;
     int rc = run_model(job, job->cfg, px, n, &m, NULL, err, errlen);
@@ -535,7 +535,7 @@ static int run_functional(const fid_job *job, fid_outcome *o, fid_func *ff, char
     return 0;
 }
 
-/* sampled: the cycle model on `groups` disjoint sets of stratified tiles;
+/* sampled: the cycle model on `groups` disjoint sets of row bands;
  * each group's figures scaled to the frame by the functional pass (ratio
  * estimator: model(sample) x functional(frame) / functional(sample)), the
  * groups' spread giving a Student-t 95% confidence interval. ff: the
@@ -556,7 +556,7 @@ static int run_sampled(const fid_job *job, double rate, fid_outcome *o, fid_func
     int rc = 0;
     for (int g = 0; g < G && rc == 0; g++) {
         uint32_t n = 0;
-        uint32_t *px = tile_subset(job, period, (uint32_t)g, (uint32_t)G, &n);
+        uint32_t *px = band_subset(job, period, (uint32_t)g, (uint32_t)G, &n);
         if (!px) {
             snprintf(err, errlen, "out of memory");
             return 2;
@@ -624,7 +624,7 @@ static int run_sampled(const fid_job *job, double rate, fid_outcome *o, fid_func
     snprintf(r->detail, sizeof r->detail,
              "sampled: the full model on %d groups of %.2f%% of the pixels (bands of %d rows, %.0f rays), scaled by "
              "the functional pass of the frame (ratio estimator)",
-             G, 100.0 * rate / G, fp->tile, sample_rays);
+             G, 100.0 * rate / G, fp->band_rows, sample_rays);
     double bound = r->accuracy > 0 ? r->accuracy : fp->sample_max_err;
     if (min_pixels < 64 || r->err_mrps > bound || r->err_dram_mb > bound || r->err_energy_mj > bound) {
         char why[200];

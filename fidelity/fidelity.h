@@ -5,10 +5,10 @@
  *   full        today's cycle-level model with command-level LPDDR3;
  *   fixed-mem   the same units, memory as latency + bandwidth limit
  *               (memory.model=fixed) calibrated per run from a short
- *               full-fidelity pilot on a stratified pixel subset;
+ *               full-fidelity pilot on interleaved pixel rows;
  *   functional  no timing: rays through the caches in a plausible order
  *               (real counts), cycles from a throughput model;
- *   sampled     the full model on stratified pixel tiles, scaled to the
+ *   sampled     the full model on interleaved bands of pixel rows, scaled to the
  *               frame by a ratio estimator against the functional pass of
  *               the whole frame, with a confidence interval over groups.
  * --accuracy P% picks the cheapest level whose estimated errors stay within

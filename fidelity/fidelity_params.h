@@ -22,7 +22,7 @@ typedef struct fid_params {
     double func_err_dram;         /* functional: relative DRAM MB error (order of accesses) */
     double func_err_energy;       /* functional: relative mJ/frame error */
     /* fixed-mem */
-    double pilot_fraction;        /* of the pixels, in stratified tiles */
+    double pilot_fraction;        /* of the pixels, in interleaved row bands */
     double pilot_min_pixels;      /* at least this many (or the whole frame) */
     double fixed_max_util;        /* DRAM utilisation of the pilot beyond which calibration does not hold */
     double fixed_err_base;        /* fixed-mem: relative MRPS error at low utilisation */
@@ -33,7 +33,7 @@ typedef struct fid_params {
     double sample_t95;            /* Student t, 95%, sample_groups - 1 degrees of freedom */
     double sample_max_err;
     double sample_err_floor;      /* sampled: floor added to every estimate (bias of the ratio estimator) */        /* estimated error beyond which a sampled result is flagged */
-    int tile;                     /* tile edge, pixels */
+    int band_rows;                /* rows per band of a sample */
 } fid_params;
 
 const fid_params *fid_params_get(void);

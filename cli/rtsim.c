@@ -230,7 +230,7 @@ static int run_fidelity(rtcfg *cfg, const rt_scene *sc, const rt_view *view, con
                cpu_s > 0 ? fo.rays / cpu_s / 1e3 : 0.0);
     }
     if (json && (rc == 0 || fo.top)) {
-        char jhead[2048];
+        char jhead[4096];
         fid_json_strings(&fo.res, jhead, sizeof jhead);
         if (write_json(fid_outcome_stats(&fo), json, jhead, err, sizeof err)) {
             fprintf(stderr, "rtsim: %s\n", err);
@@ -443,7 +443,7 @@ int main(int argc, char **argv)
                cpu_s > 0 ? (double)accel_top_cycles(top) / cpu_s / 1e6 : 0.0,
                cpu_s > 0 ? (double)accel_top_rays(top) / cpu_s / 1e3 : 0.0);
     }
-    char jhead[2048];
+    char jhead[4096];
     fid_json_strings(&fres, jhead, sizeof jhead);
     if (json && write_json(accel_top_stats(top), json, jhead, err, sizeof err)) {
         fprintf(stderr, "rtsim: %s\n", err);

@@ -49,7 +49,7 @@ typedef struct fid_result {
     fid_level level;
     double err_mrps, err_dram_mb, err_energy_mj;
     uint64_t unreliable;          /* 1: a figure may lie outside its estimate */
-    char reason[256];             /* why unreliable ("" when reliable) */
+    char reason[1024];           /* why unreliable ("" when reliable) */
     char detail[512];             /* how the figures were obtained (pilot, sample...) */
     char choice[512];             /* --accuracy: what was picked and why ("" otherwise) */
     double accuracy;              /* --accuracy target (fraction), 0 when not asked */

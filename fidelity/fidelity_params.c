@@ -35,7 +35,10 @@ static const fid_params defaults = {
     .sample_groups = 4,
     .sample_t95 = 3.182,           /* Student t, 3 degrees of freedom, two-sided 95% */
     .sample_max_err = 0.10,
-    .sample_err_floor = 0.01,      /* the worst excess over CI + bias term in the 320x180 matrix: 1.1% */
+    .sample_err_floor = 0.01,
+    /* hairball primary 640x360: functional DRAM MB 2.3% off on the frame,
+     * 0.2% on the sample, so the ratio estimator is 2.3-2.6% off */
+    .sample_err_dram = 0.025,      /* the worst excess over CI + bias term in the 320x180 matrix: 1.1% */
     .band_rows = 1,                /* 8x8 tiles and 4- or 8-row bands were 5-12% low on primary MRPS (docs/fidelity.md) */
 };
 

@@ -32,6 +32,7 @@ typedef struct fid_params {
     int sample_groups;            /* independent groups (confidence interval) */
     double sample_t95;            /* Student t, 95%, sample_groups - 1 degrees of freedom */
     double sample_max_err;
+    double sample_err_dram;       /* sampled: bias bound of the DRAM ratio estimator */
     double sample_err_floor;      /* sampled: floor added to every estimate (bias of the ratio estimator) */        /* estimated error beyond which a sampled result is flagged */
     int band_rows;                /* rows per band of a sample */
 } fid_params;

@@ -174,6 +174,7 @@ static void throughput(const fid_job *job, fid_func *o)
     double service = bpc > 0 ? mean_line / bpc : 0;   /* cycles a line holds the data bus */
     double row_miss = o->dram_lines ? 1.0 - (double)o->row_hits / (double)o->dram_lines : 0;
     o->cyc_dram = bpc > 0 ? (double)o->dram_bytes / bpc : 0;
+    double k = o->miss_scale > 0 ? o->miss_scale : 1.0;   /* fid_functional_retime */
     double cycles = 1;
     /* fixed point: cycles -> utilisation -> memory latency -> loops and
      * ray latency -> cycles (converges in a few steps: latency grows with
@@ -185,8 +186,8 @@ static void throughput(const fid_job *job, fid_func *o)
          * effective service time far longer than a line's bus transfer */
         double mem = fp->dram_latency + row_miss * fp->row_miss_cycles + service +
                      (util > 0 ? util / (1.0 - util) * fp->queue_cycles : 0);
-        double node_wait = l2_wait + l2_miss_frac * mem;
-        double trv_loops_per_miss = 1.0 + node_wait / trv_period, ist_loops_per_miss = 1.0 + mem / ist_period;
+        double node_wait = (l2_wait + l2_miss_frac * mem) * k, mem_k = mem * k;
+        double trv_loops_per_miss = 1.0 + node_wait / trv_period, ist_loops_per_miss = 1.0 + mem_k / ist_period;
         double busiest_trv = 0;
         for (uint32_t i = 0; i < o->ntrv; i++)
             busiest_trv = max2(busiest_trv, (double)o->trv_visits[i] + (double)o->trv_leaves[i] +
@@ -197,7 +198,7 @@ static void throughput(const fid_job *job, fid_func *o)
          * depth, each miss its wait (Little: cycles >= sum / rays in flight) */
         double lat_sum = ((double)o->visits + (double)o->leaves) * trv_period +
                          (double)o->leaves * (ist_period + 2 * fifo_lat) + (double)o->tri_tests +
-                         l1_lines * node_wait * fp->miss_waiters + prim_lines * mem * fp->miss_waiters;
+                         l1_lines * node_wait * fp->miss_waiters + prim_lines * mem_k * fp->miss_waiters;
         o->cyc_lat = lat_sum / slots;
         double next = max2(max2(o->cyc_trv, o->cyc_ist), max2(o->cyc_dram, o->cyc_lat));
         o->mem_latency = mem;
@@ -228,6 +229,12 @@ static void throughput(const fid_job *job, fid_func *o)
     o->runner_up = b[top] > 0 ? second / b[top] : 0;
     o->clock_mhz = clock;
     o->mrps = o->cycles > 0 ? (double)o->rays / (o->cycles / (clock * 1e6)) / 1e6 : 0;
+}
+
+void fid_functional_retime(const fid_job *job, fid_func *f, double miss_scale)
+{
+    f->miss_scale = miss_scale;
+    throughput(job, f);
 }
 
 int fid_functional_run(const fid_job *job, const uint32_t *pixels, uint32_t npix, fid_func *out, char *err,

@@ -44,11 +44,17 @@ typedef struct fid_func {
     const char *bound;            /* "trv", "ist", "dram", "latency" */
     double runner_up;             /* second largest bound / largest (1 = tie) */
     double mrps, clock_mhz;
+    double miss_scale;            /* multiplies every miss's wait (1 = the model as fitted) */
 } fid_func;
 
 /* pixels: the primary rays' pixel indices in admission order (NULL: every
  * pixel in scanline order, npix ignored). Returns 0, or -1 with a message. */
 int fid_functional_run(const fid_job *job, const uint32_t *pixels, uint32_t npix, fid_func *out, char *err,
                        size_t errlen);
+
+/* Recomputes the throughput model of f's counts with every miss's wait
+ * multiplied by miss_scale (sampled: fitted so that the functional cycles
+ * of a sample match the cycle model's). */
+void fid_functional_retime(const fid_job *job, fid_func *f, double miss_scale);
 
 #endif

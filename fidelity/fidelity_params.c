@@ -29,6 +29,10 @@ static const fid_params defaults = {
     .pilot_fraction = 1.0 / 16.0,
     .pilot_min_pixels = 1024,
     .fixed_max_util = 0.60,        /* above it fixed-mem errs by > 5% on diffuse rays (docs/fidelity.md) */
+    /* unloaded = dram_latency + row misses x row_miss_cycles; the 320x180
+     * matrix's pilots are 1.3-3.3x it (3.3: hairball BVH2 diffuse, then
+     * flagged), the furball stand-in's 5.6x */
+    .fixed_max_latency_ratio = 3.0,
     .fixed_err_base = 0.02,
     .fixed_err_util = 0.10,
     .sample_rate = 1.0 / 16.0,

@@ -25,6 +25,7 @@ typedef struct fid_params {
     double pilot_fraction;        /* of the pixels, in interleaved row bands */
     double pilot_min_pixels;      /* at least this many (or the whole frame) */
     double fixed_max_util;        /* DRAM utilisation of the pilot beyond which calibration does not hold */
+    double fixed_max_latency_ratio; /* pilot mean latency / unloaded latency beyond which it is saturated */
     double fixed_err_base;        /* fixed-mem: relative MRPS error at low utilisation */
     double fixed_err_util;        /* fixed-mem: added error per unit of utilisation squared */
     /* sampled */

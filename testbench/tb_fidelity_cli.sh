@@ -82,12 +82,14 @@ else fail fidelity_fixed_mem_saturation_flagged "not flagged: $(echo "$out" | gr
 "$bin" interior --res 320x180 --fidelity fixed-mem --json "$tmp/light.json" >/dev/null 2>&1
 if [ "$(field "$tmp/light.json" unreliable)" = 0 ]; then pass fidelity_fixed_mem_light_not_flagged
 else fail fidelity_fixed_mem_light_not_flagged "$(field "$tmp/light.json" unreliable_reason)"; fi
-if [ -e ../shared/scenes/hairball-furball/furBall_A_tubes3.ply.gz ] && [ -n "${RTSIM_FIDELITY_FURBALL:-}" ]; then
+# The stand-in saturates the LPDDR3 below 60% of its peak (37% row hits):
+# the latency criterion must catch it.
+if [ -e ../shared/scenes/hairball-furball/furBall_A_tubes3.ply.gz ]; then
   out=$("$bin" scenes/shared-hairball-real.scene --res 32x18 --rays diffuse --fidelity fixed-mem 2>&1)
-  if echo "$out" | grep -q "^unreliable  fixed-mem"; then pass fidelity_fixed_mem_furball_flagged
-  else fail fidelity_fixed_mem_furball_flagged "$(echo "$out" | grep -E '^(fidelity|DRAM)' | tr '\n' ' ')"; fi
+  if echo "$out" | grep -q "^unreliable  fixed-mem: the pilot's mean memory latency"; then pass fidelity_fixed_mem_furball_flagged
+  else fail fidelity_fixed_mem_furball_flagged "$(echo "$out" | grep -E '^(fidelity|method)' | tr '\n' ' ')"; fi
 else
-  echo "SKIP fidelity_fixed_mem_furball_flagged (needs ../shared/scenes/hairball-furball and RTSIM_FIDELITY_FURBALL=1: a 2.7 M-triangle BVH build)"
+  echo "SKIP fidelity_fixed_mem_furball_flagged (needs ../shared/scenes/hairball-furball beside the repository)"
 fi
 
 # functional near a tie: interior primary, where the TRVs and the IST carry

@@ -18,6 +18,7 @@
 
 #include "cli/rtsim_estimate.h"
 #include "frame/frame.h"
+#include "fidelity/fidelity.h"
 #include "kernel/stats.h"
 #include "model/accel_config.h"
 #include "model/accel_top.h"
@@ -39,6 +40,8 @@ static void usage(FILE *out)
             "             [--set KEY=VALUE]... [--json FILE] [--vcd FILE] [--vcd-window A:B]\n"
             "             [--vcd-filter GLOB] [--heatmap FILE] [--autosize-fifos OUT.ini]\n"
             "             [--help-module NAME] [--quiet] [--progress] [--exhaustive] [--help] [--version]\n"
+            "             [--fidelity full|fixed-mem|functional|sampled] [--accuracy P%%]\n"
+            "             [--sample-rate R]\n"
             "SCENE: a built-in scene (interior, hairball, city, forest; default interior) or an\n"
             "       .obj/.ply(.gz)/.scene file. Defaults: 1280x720, mbvh4, primary rays,\n"
             "       4 bounces, seed 1. Occlusion rays: 4 ambient-occlusion rays per primary hit.\n"
@@ -55,6 +58,10 @@ static void usage(FILE *out)
             "                    terminal, a progress line every few seconds (a terminal\n"
             "                    gets a progress bar anyway); runs estimated to take more\n"
             "                    than a minute print the estimate in any case\n"
+            "--fidelity LEVEL    full (default), fixed-mem, functional or sampled: cheaper models,\n"
+            "                    each result with its error estimate and flag (docs/fidelity.md)\n"
+            "--accuracy P%%       pick the cheapest level expected within P%% (falls back to full)\n"
+            "--sample-rate R     sampled: fraction of the pixels modelled (0 < R <= 1; default 1/16)\n"
 "--help-module NAME  parameters, ports and statistics of a module (trv, ist, sched,\n"
             "                    cache, arbiter, fixed_mem, dram, ...) and the keys of its\n"
             "                    configuration section (node_l1, node_l2, prim, memory, fifo, machine,\n"
@@ -109,6 +116,8 @@ static int help_module(const char *name)
     }
     int found = 0;
     const ks_module_desc *d = accel_module_desc(name);
+    if (!d && !strcmp(name, fid_module_desc.name))
+        d = &fid_module_desc;   /* fidelity/ is above the model: not in its list */
     if (d) {
         ks_module_desc_print(d, stdout);
         found = 1;
@@ -205,26 +214,35 @@ static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admi
     fflush(stderr);
 }
 
-/* The statistics with the run object (cli/run_info.h) as their first member. */
-static int write_stats_run(ks_stats *st, const cli_run_info *ri, FILE *f)
+/* The statistics with the run object (cli/run_info.h) as their first member,
+ * then `head` (JSON members: the fidelity strings, fidelity.h; may be NULL). */
+static int write_stats_run(ks_stats *st, const cli_run_info *ri, const char *head, FILE *f)
 {
-    char *buf = NULL;
-    size_t len = 0;
+    char *buf = NULL, *full = NULL;
+    size_t len = 0, flen = 0;
     FILE *m = open_memstream(&buf, &len);
     if (!m)
         return -1;
     int rc = ks_stats_write_json(st, m);
     rc |= fclose(m);
+    if (!rc && head && *head && len >= 2 && !strncmp(buf, "{\n", 2)) {
+        /* head's members right after the opening brace */
+        FILE *h = open_memstream(&full, &flen);
+        rc = !h || fputs("{\n", h) < 0 || fputs(head, h) < 0 || fputs(buf + 2, h) < 0;
+        if (h)
+            rc |= fclose(h);
+    }
     if (!rc)
-        rc = cli_run_splice(f, ri, buf, len, false);
+        rc = full ? cli_run_splice(f, ri, full, flen, false) : cli_run_splice(f, ri, buf, len, false);
     free(buf);
+    free(full);
     return rc ? -1 : 0;
 }
 
-/* The statistics with the run object (cli/run_info.h) as their first member,
- * marked partial (reason) when the run was interrupted. */
-static int write_json(ks_stats *st, const cli_run_info *ri, ks_out *out, const char *reason, char *err,
-                      size_t errlen)
+/* The statistics with the run object first (then head), marked partial
+ * (reason) when the run was interrupted. */
+static int write_json(ks_stats *st, const cli_run_info *ri, const char *head, ks_out *out, const char *reason,
+                      char *err, size_t errlen)
 {
     char *text = NULL;
     size_t len = 0;
@@ -233,7 +251,7 @@ static int write_json(ks_stats *st, const cli_run_info *ri, ks_out *out, const c
         snprintf(err, errlen, "--json: out of memory");
         return -1;
     }
-    int rc = write_stats_run(st, ri, mf);
+    int rc = write_stats_run(st, ri, head, mf);
     rc |= fclose(mf);
     if (rc) {
         free(text);
@@ -242,6 +260,55 @@ static int write_json(ks_stats *st, const cli_run_info *ri, ks_out *out, const c
     }
     rc = cli_write_json(out, text, reason, err, errlen);
     free(text);
+    return rc;
+}
+
+/* The provenance of a run (docs/results.md) that the options and the scene give. */
+static void fill_run(cli_run_info *run, const char *scene_name, const char *views_file, const rt_view *view,
+                     const rt_scene *sc, const char *machine, const rtcfg *cfg, uint32_t w, uint32_t h, bool diffuse,
+                     long bounces, uint64_t seed)
+{
+    run->scene = scene_name, run->views_file = views_file, run->view = view->name;
+    run->has_mesh_hash = true, run->mesh_hash = rt_mesh_hash(&sc->mesh);
+    run->machine = machine;
+    run->has_config_hash = cli_run_config_hash(cfg, &run->config_hash);
+    run->width = w, run->height = h, run->rays = diffuse ? "diffuse" : "primary";
+    run->has_bounces = diffuse, run->bounces = (uint32_t)bounces;
+    run->has_seed = diffuse, run->seed = seed;
+}
+
+/* A cheaper fidelity level or --accuracy (fidelity.h): runs, prints the
+ * summary and writes the JSON. Returns the exit status. */
+static int run_fidelity(rtcfg *cfg, const rt_scene *sc, const rt_view *view, const rt_bvh_image *img, uint32_t w,
+                        uint32_t h, bool diffuse, uint32_t bounces, uint64_t seed, fid_level level, double accuracy,
+                        double sample_rate, bool quiet, cli_run_info *run, ks_out *json)
+{
+    char err[8192];
+    fid_job job = {cfg, &sc->mesh, view, img, w, h, diffuse, bounces, seed, sample_rate, NULL, NULL};
+    fid_outcome fo;
+    double t0 = wall(), c0 = cpu();
+    int rc = fid_run(&job, level, accuracy, &fo, err, sizeof err);
+    double host_s = wall() - t0, cpu_s = cpu() - c0;
+    if (rc)
+        fprintf(stderr, "rtsim: %s\n", err);
+    if (!quiet && (rc == 0 || fo.top)) {
+        printf("scene       %s, view %s, %ux%u, %s rays\n", sc->name, view->name, w, h, diffuse ? "diffuse" : "primary");
+        printf("BVH         %u nodes x %u B, %u triangles\n", img->nnodes, img->node_bytes, img->ntris);
+        fid_outcome_print(&fo, stdout);
+        fid_print_summary(&fo.res, stdout);
+        printf("host        %.3f s CPU (%.3f s wall), %.0f K rays/s (CPU)\n", cpu_s, host_s,
+               cpu_s > 0 ? fo.rays / cpu_s / 1e3 : 0.0);
+    }
+    if (json && (rc == 0 || fo.top)) {
+        char jhead[4096];
+        fid_json_strings(&fo.res, jhead, sizeof jhead);
+        run->has_sim = true, run->sim_cpu_s = cpu_s, run->sim_wall_s = host_s;
+        if (write_json(fid_outcome_stats(&fo), run, jhead, json, NULL, err, sizeof err)) {
+            fprintf(stderr, "rtsim: %s\n", err);
+            rc = rc ? rc : 2;
+        }
+    }
+    fid_outcome_free(&fo);
     return rc;
 }
 
@@ -260,13 +327,16 @@ int main(int argc, char **argv)
     const char *json = NULL, *vcd = NULL, *vcd_filter = NULL, *heatmap = NULL, *autosize = NULL;
     const char *res = "1280x720";
     bool diffuse = false, occlusion = false, quiet = false, exhaustive = false, progress = false;
+    fid_level level = FID_FULL;
+    double accuracy = 0, sample_rate = 0;
     uint64_t bounces = 4, seed = 1, vcd_a = 0, vcd_b = 0;
     const char **sets = calloc((size_t)argc, sizeof *sets);
     int nsets = 0;
     bool vcd_window = false;
     ks_interrupt_install("rtsim");
     enum { O_VIEW = 256, O_VIEWS, O_MACHINE, O_RAYS, O_RES, O_BOUNCES, O_SEED, O_SET, O_JSON, O_VCD, O_VCDW, O_VCDF,
-           O_HEAT, O_AUTO, O_HELPMOD, O_QUIET, O_EXHAUSTIVE, O_HELP, O_VERSION, O_PROGRESS };
+           O_HEAT, O_AUTO, O_HELPMOD, O_QUIET, O_EXHAUSTIVE, O_HELP, O_VERSION, O_PROGRESS,
+           O_FIDELITY, O_ACCURACY, O_SAMPLE };
     static const struct option opts[] = {
         {"view", required_argument, 0, O_VIEW},        {"views", required_argument, 0, O_VIEWS},
         {"machine", required_argument, 0, O_MACHINE},  {"rays", required_argument, 0, O_RAYS},
@@ -278,6 +348,8 @@ int main(int argc, char **argv)
         {"help-module", required_argument, 0, O_HELPMOD}, {"quiet", no_argument, 0, O_QUIET}, {"exhaustive", no_argument, 0, O_EXHAUSTIVE},
         {"help", no_argument, 0, O_HELP},              {"version", no_argument, 0, O_VERSION},
         {"progress", no_argument, 0, O_PROGRESS},
+        {"fidelity", required_argument, 0, O_FIDELITY}, {"accuracy", required_argument, 0, O_ACCURACY},
+        {"sample-rate", required_argument, 0, O_SAMPLE},
         {0, 0, 0, 0}};
     if (!sets)
         return 2;
@@ -325,6 +397,21 @@ int main(int argc, char **argv)
         case O_QUIET: quiet = true; break;
         case O_EXHAUSTIVE: exhaustive = true; break;
         case O_PROGRESS: progress = true; break;
+        case O_FIDELITY:
+            if (!fid_level_parse(optarg, &level))
+                USAGE_ERR("--fidelity %s: allowed values are full, fixed-mem, functional, sampled%s", optarg, "");
+            break;
+        case O_ACCURACY:
+            if (!fid_accuracy_parse(optarg, &accuracy))
+                USAGE_ERR("--accuracy %s: expected a percentage in (0, 100], e.g. 2%%%s", optarg, "");
+            break;
+        case O_SAMPLE: {
+            char *end;
+            sample_rate = strtod(optarg, &end);
+            if (end == optarg || *end || !(sample_rate > 0) || sample_rate > 1)
+                USAGE_ERR("--sample-rate %s: allowed range 0 < R <= 1%s", optarg, "");
+            break;
+        }
         case O_HELP: usage(stdout); free(sets); return 0;
         case O_VERSION: printf("rtsim %s (git %s)\n", RTSIM_VERSION, RTSIM_GIT); free(sets); return 0;
         case '?':
@@ -347,6 +434,14 @@ int main(int argc, char **argv)
     if (!vcd && (vcd_window || vcd_filter)) {
         USAGE_ERR("%s: only with --vcd FILE (no waveform is written without it)%s",
                   vcd_window ? "--vcd-window" : "--vcd-filter", "");
+    }
+    if ((level != FID_FULL || accuracy > 0) && occlusion) {
+        USAGE_ERR("--rays occlusion needs --fidelity full (%s asked)%s",
+                  accuracy > 0 ? "--accuracy" : fid_level_name(level), "");
+    }
+    if ((level != FID_FULL || accuracy > 0) && (vcd || heatmap || autosize || exhaustive)) {
+        USAGE_ERR("--vcd, --heatmap, --autosize-fifos and --exhaustive need --fidelity full (%s asked)%s",
+                  accuracy > 0 ? "--accuracy" : fid_level_name(level), "");
     }
     if (heatmap && !rt_image_format_supported(heatmap)) {
         USAGE_ERR("--heatmap %s: the file must end in .png or .exr%s", heatmap, "");
@@ -398,6 +493,13 @@ int main(int argc, char **argv)
         goto fail;
     if (occlusion && !rtsim_frame_occlusion(&frame, &img, RT_AO_SAMPLES_DEFAULT, &src, err, sizeof err))
         goto fail;
+    if (level != FID_FULL || accuracy > 0) {
+        /* a cheaper level or the automatic choice: fidelity/ runs it */
+        fill_run(&run, scene_name, views_file, view, &sc, machine, cfg, w, h, diffuse, bounces, seed);
+        rc = run_fidelity(cfg, &sc, view, &img, w, h, diffuse, (uint32_t)bounces, seed, level, accuracy, sample_rate,
+                          quiet, &run, json ? outs[0].out : NULL);
+        goto done;
+    }
     accel_image aimg = rtsim_image(&img);
     accel_top_opts o = {0};
     o.vcd_path = vcd;
@@ -408,6 +510,12 @@ int main(int argc, char **argv)
     top = accel_top_create(cfg, &aimg, &src, &o, err, sizeof err);
     if (!top)
         goto fail;
+    fid_result fres;
+    fid_result_full(&fres);
+    if (fid_register_stats(&fres, accel_top_stats(top))) {
+        snprintf(err, sizeof err, "fidelity statistics: %s", ks_stats_error(accel_top_stats(top)));
+        goto fail;
+    }
     progress_state ps = {!quiet && isatty(2), false, 0, 0, 0, src.primary_count, wall(), &src};
     {
         /* the estimate: said before a long run starts, and with --progress */
@@ -456,21 +564,19 @@ int main(int argc, char **argv)
         if (sig)
             printf("PARTIAL     %s: the figures cover the run until then\n", reason);
         accel_top_print_summary(top, stdout);
+        fid_print_summary(&fres, stdout);
         printf("host        %.3f s CPU (%.3f s wall), %.2f M simulated cycles/s, %.0f K rays/s (CPU)\n", cpu_s, host_s,
                cpu_s > 0 ? (double)accel_top_cycles(top) / cpu_s / 1e6 : 0.0,
                cpu_s > 0 ? (double)accel_top_rays(top) / cpu_s / 1e3 : 0.0);
     }
+    char jhead[4096];
+    fid_json_strings(&fres, jhead, sizeof jhead);
     /* provenance (docs/results.md) */
-    run.scene = scene_name, run.views_file = views_file, run.view = view->name;
-    run.has_mesh_hash = true, run.mesh_hash = rt_mesh_hash(&sc.mesh);
-    run.machine = machine;
-    run.has_config_hash = cli_run_config_hash(cfg, &run.config_hash);
-    run.width = w, run.height = h, run.rays = diffuse ? "diffuse" : "primary";
-    run.has_bounces = diffuse, run.bounces = (uint32_t)bounces;
-    run.has_seed = diffuse, run.seed = seed;
+    fill_run(&run, scene_name, views_file, view, &sc, machine, cfg, w, h, diffuse, bounces, seed);
+    run.rays = occlusion ? "occlusion" : run.rays;
     run.has_sim = true, run.sim_cpu_s = cpu_s, run.sim_wall_s = host_s;
     run.has_cycles = true, run.cycles = accel_top_cycles(top);
-    if (json && write_json(accel_top_stats(top), &run, outs[0].out, sig ? reason : NULL, err, sizeof err)) {
+    if (json && write_json(accel_top_stats(top), &run, jhead, outs[0].out, sig ? reason : NULL, err, sizeof err)) {
         fprintf(stderr, "rtsim: %s\n", err);
         rc = rc ? rc : 2;
     }

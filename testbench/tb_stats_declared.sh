@@ -15,7 +15,7 @@ rm -rf "$tmp"; mkdir -p "$tmp"
 "$bin" interior --res 8x8 --machine mbvh4 --quiet --json "$tmp/lpddr3.json" >/dev/null 2>&1
 "$bin" interior --res 8x8 --machine bvh2 --set memory.model=fixed --quiet --json "$tmp/fixed.json" >/dev/null 2>&1
 "$bin" interior --res 8x8 --rays occlusion --quiet --json "$tmp/occlusion.json" >/dev/null 2>&1
-modules="accel energy sched trv ist fifo cache arbiter fixed_mem dram_adapter dram memory_side"
+modules="accel energy fidelity sched trv ist fifo cache arbiter fixed_mem dram_adapter dram memory_side"
 for m in $modules; do "$bin" --help-module "$m" > "$tmp/help-$m.txt" 2>&1; done
 
 python3 - "$tmp" $modules <<'PY'
@@ -42,6 +42,8 @@ def owner(key, memory_module):
     """(module, name within the module) of a statistic's full name."""
     if key in ("node_l1.hit_rate", "memory.bytes_total"):
         return "memory_side", key
+    if key in ("fidelity_level", "unreliable") or key.startswith("error_estimate."):
+        return "fidelity", key
     if re.match(r"^(energy|power|area)\.", key) or key in ("energy_mj", "power_mw", "area_mm2", "mrps_per_mm2"):
         return "energy", key
     if "." not in key:
@@ -59,7 +61,7 @@ bad, used = [], set()
 for run, memory_module in (("lpddr3", "dram_adapter"), ("fixed", "fixed_mem"), ("occlusion", "dram_adapter")):
     d = json.load(open("%s/%s.json" % (tmp, run)))
     for key in d:
-        if key.startswith("_") or key == "run":
+        if key.startswith("_") or key == "run" or isinstance(d[key], str):   # fidelity's strings
             continue
         mod, name = owner(key, memory_module)
         hit = [it for it in decl.get(mod, []) if rx(it[0]).match(name)]

@@ -1,0 +1,53 @@
+#!/usr/bin/env bash
+# Fidelity levels' speed (docs/fidelity.md): host CPU time of each level
+# against the full model on one primary workload (interior 640x360, MBVH4)
+# and one diffuse workload (hairball 320x180, MBVH4), median of RUNS (3)
+# runs, one core, with the level's true MRPS error against full.
+#   bash bench/fidelity.sh [BUILD_DIR]
+# CSV (BUILD_DIR/bench/fidelity.csv): benchmark,ours_median_s,reference_median_s,ratio
+# where ours = the level's time, reference = the full model's time, ratio =
+# speedup (reference / ours); the printed table adds the MRPS error and flag.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+build=${1:-build}
+runs=${RUNS:-3}
+bin=$build/bin/rtsim
+[ -x "$bin" ] || make -s BUILD="$build" "$bin" >&2
+out=$build/bench
+mkdir -p "$out"
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+csv=$out/fidelity.csv.tmp
+echo "benchmark,ours_median_s,reference_median_s,ratio" >"$csv"
+
+median() { sort -g | awk '{ v[NR] = $1 } END { if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+
+# run ARGS... -> med (host CPU s), mrps, flag (of the last run)
+run() {
+  : >"$tmp/times"
+  for _ in $(seq "$runs"); do
+    "$bin" "$@" --json "$tmp/r.json" >"$tmp/out"
+    awk '/^host/ { print $2 }' "$tmp/out" >>"$tmp/times"
+  done
+  med=$(median <"$tmp/times")
+  mrps=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["mrps"])' "$tmp/r.json")
+  flag=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["unreliable"])' "$tmp/r.json")
+}
+
+printf '%-44s %10s %10s %9s %12s %8s\n' benchmark "host (s)" "full (s)" speedup "MRPS error" flagged >&2
+for w in "interior_640x360_primary interior --res 640x360 --rays primary" \
+         "hairball_320x180_diffuse hairball --res 320x180 --rays diffuse"; do
+  set -- $w
+  name=$1; shift
+  run "$@"
+  full=$med full_mrps=$mrps
+  for lv in fixed-mem functional sampled; do
+    run "$@" --fidelity "$lv"
+    sp=$(awk -v o="$med" -v r="$full" 'BEGIN { printf "%.2f", (o > 0 ? r / o : 0) }')
+    er=$(awk -v a="$mrps" -v b="$full_mrps" 'BEGIN { e = (a / b - 1) * 100; printf "%+.1f%%", e }')
+    printf '%-44s %10.3f %10.3f %8sx %12s %8s\n' "${name}_$lv" "$med" "$full" "$sp" "$er" "$flag" >&2
+    echo "${name}_$lv,$med,$full,$sp" >>"$csv"
+  done
+done
+mv "$csv" "$out/fidelity.csv"
+echo "fidelity bench: $out/fidelity.csv (ratio = speedup against the full model)" >&2

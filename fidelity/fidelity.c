@@ -1,0 +1,850 @@
+/* fidelity.c — the fidelity levels and the automatic choice (fidelity.h,
+ * docs/fidelity.md). */
+#include "fidelity/fidelity.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "frame/frame.h"
+#include "fidelity/fidelity_params.h"
+#include "fidelity/functional.h"
+#include "model/mem/memsys_config.h"
+
+static const char *const level_names[FID_LEVEL_COUNT] = {"full", "fixed-mem", "functional", "sampled"};
+
+const char *fid_level_name(fid_level l) { return l < FID_LEVEL_COUNT ? level_names[l] : "?"; }
+
+bool fid_level_parse(const char *s, fid_level *out)
+{
+    for (int i = 0; i < FID_LEVEL_COUNT; i++)
+        if (!strcmp(s, level_names[i])) {
+            *out = (fid_level)i;
+            return true;
+        }
+    return false;
+}
+
+bool fid_accuracy_parse(const char *s, double *fraction)
+{
+    char *end;
+    if (!s || !*s)
+        return false;
+    double v = strtod(s, &end);
+    if (end == s || (*end && strcmp(end, "%")) || !(v > 0) || v > 100)
+        return false;
+    *fraction = v / 100.0;
+    return true;
+}
+
+void fid_result_full(fid_result *r)
+{
+    memset(r, 0, sizeof *r);
+    r->level = FID_FULL;
+}
+
+/* ---- statistics, summary, JSON ---------------------------------------- */
+
+
+static double pct_fn(const ks_stats *reg, void *user)
+{
+    (void)reg;
+    return *(const double *)user * 100.0;
+}
+
+static double level_fn(const ks_stats *reg, void *user)
+{
+    (void)reg;
+    return (double)((const fid_result *)user)->level;
+}
+
+static const ks_desc_item fid_items[] = {
+    {KS_DESC_STAT, "fidelity_level", "level", "", "",
+     "fidelity of the figures: 0 full, 1 fixed-mem, 2 functional, 3 sampled (the string is \"fidelity\")"},
+    {KS_DESC_STAT, "unreliable", "flag", "", "",
+     "1 when a figure may lie outside its error estimate (reason: \"unreliable_reason\")"},
+    {KS_DESC_STAT, "error_estimate.mrps", "%", "", "", "estimated relative error of mrps against the full model"},
+    {KS_DESC_STAT, "error_estimate.dram_mb", "%", "", "",
+     "estimated relative error of dram_bytes against the full model"},
+    {KS_DESC_STAT, "error_estimate.energy_mj", "%", "", "",
+     "estimated relative error of energy_mj against the full model"},
+    {KS_DESC_END, 0, 0, 0, 0, 0}};
+const ks_module_desc fid_module_desc = {"fidelity", "fidelity of a run's figures and their error estimates",
+                                        fid_items};
+
+int fid_register_stats(fid_result *r, ks_stats *st)
+{
+    const ks_module_desc *d = &fid_module_desc;
+    int rc = 0;
+    rc |= ks_stat_decl_formula(st, d, NULL, "fidelity_level", level_fn, r);
+    rc |= ks_stat_decl_counter(st, d, NULL, "unreliable", &r->unreliable);
+    rc |= ks_stat_decl_formula(st, d, NULL, "error_estimate.mrps", pct_fn, &r->err_mrps);
+    rc |= ks_stat_decl_formula(st, d, NULL, "error_estimate.dram_mb", pct_fn, &r->err_dram_mb);
+    rc |= ks_stat_decl_formula(st, d, NULL, "error_estimate.energy_mj", pct_fn, &r->err_energy_mj);
+    return rc;
+}
+
+void fid_print_summary(const fid_result *r, FILE *out)
+{
+    fprintf(out, "fidelity    %s; error estimate MRPS %.1f%%, DRAM MB %.1f%%, mJ/frame %.1f%%%s\n",
+            fid_level_name(r->level), 100.0 * r->err_mrps, 100.0 * r->err_dram_mb, 100.0 * r->err_energy_mj,
+            r->unreliable ? "; UNRELIABLE" : "");
+    if (r->unreliable)
+        fprintf(out, "unreliable  %s\n", r->reason);
+    if (r->detail[0])
+        fprintf(out, "method      %s\n", r->detail);
+    if (r->choice[0])
+        fprintf(out, "accuracy    %s\n", r->choice);
+}
+
+/* JSON string escaping of the few characters our messages may hold. */
+static size_t json_str(char *buf, size_t len, const char *s)
+{
+    size_t n = 0;
+#define PUT(c) (n + 1 < len ? (void)(buf[n] = (c)) : (void)0, n++)
+    PUT('"');
+    for (; *s; s++) {
+        if (*s == '"' || *s == '\\')
+            PUT('\\');
+        if ((unsigned char)*s < 0x20)
+            continue;
+        PUT(*s);
+    }
+    PUT('"');
+#undef PUT
+    if (len)
+        buf[n < len ? n : len - 1] = 0;
+    return n;
+}
+
+void fid_json_strings(const fid_result *r, char *buf, size_t len)
+{
+    char a[2100], b[1100];
+    json_str(a, sizeof a, r->reason);
+    json_str(b, sizeof b, r->choice);
+    snprintf(buf, len, "  \"fidelity\": \"%s\",\n  \"unreliable_reason\": %s,\n  \"fidelity_choice\": %s,\n",
+             fid_level_name(r->level), a, b);
+}
+
+/* ---- pixel subsets: interleaved row bands ------------------------------- */
+
+/* Pixels of group g of `groups` interleaved sets of bands (fp->band_rows rows
+ * each, the full width), each set taking one band in `period`, in scanline
+ * order. Whole rows keep the frame's order of rays within a row, and so its
+ * cache locality (tiles spread over a row lose it: docs/fidelity.md). */
+static uint32_t *band_subset(const fid_job *job, uint32_t period, uint32_t group, uint32_t groups, uint32_t *n)
+{
+    const fid_params *fp = fid_params_get();
+    uint32_t T = (uint32_t)fp->band_rows, w = job->width, h = job->height;
+    uint32_t *px = malloc((size_t)w * h * sizeof *px);
+    *n = 0;
+    if (!px)
+        return NULL;
+    uint32_t step = period / groups ? period / groups : 1;
+    for (uint32_t y = 0; y < h; y++) {
+        if ((y / T) % period != (group * step) % period)
+            continue;
+        for (uint32_t x = 0; x < w; x++)
+            px[(*n)++] = y * w + x;
+    }
+    return px;
+}
+
+/* ---- running the cycle model on a pixel subset -------------------------- */
+
+typedef struct subset_src {
+    rtsim_frame *f;
+    const uint32_t *map;
+} subset_src;
+
+static void sub_primary(void *u, uint64_t i, accel_ray_in *out)
+{
+    subset_src *s = u;
+    rtsim_frame_primary(s->f, s->map ? s->map[i] : i, out);
+}
+
+static bool sub_bounce(void *u, const accel_ray_in *in, const accel_hit *hit, accel_ray_in *out)
+{
+    return rtsim_frame_bounce(((subset_src *)u)->f, in, hit, out);
+}
+
+static void sub_complete(void *u, uint32_t uid, const accel_ray_in *in, const accel_hit *hit, uint64_t admit,
+                         uint64_t done, uint32_t visits, uint32_t tri_tests, bool failed)
+{
+    rtsim_frame_complete(((subset_src *)u)->f, uid, in, hit, admit, done, visits, tri_tests, failed);
+}
+
+/* Figures of a cycle-model run. */
+typedef struct model_fig {
+    double cycles, rays, mrps, dram_bytes, energy_mj, static_mj, dram_mj, dram_static_mj;
+    double mem_latency, dram_gbs, row_hit, mem_requests;
+} model_fig;
+
+static double stat(ks_stats *st, const char *name)
+{
+    double v = 0;
+    return ks_stats_value(st, name, &v) == 0 ? v : 0.0;
+}
+
+static void get_fig(accel_top *t, model_fig *f)
+{
+    ks_stats *st = accel_top_stats(t);
+    memset(f, 0, sizeof *f);
+    f->cycles = stat(st, "cycles");
+    f->rays = stat(st, "rays");
+    f->mrps = stat(st, "mrps");
+    f->dram_bytes = stat(st, "dram_bytes");
+    f->energy_mj = stat(st, "energy_mj");
+    static const char *const units[] = {"trv", "ist", "stack", "cache", "fifo", "dram"};
+    for (size_t i = 0; i < sizeof units / sizeof units[0]; i++) {
+        char k[64];
+        snprintf(k, sizeof k, "energy.%s_static_mj", units[i]);
+        f->static_mj += stat(st, k);
+    }
+    f->dram_mj = stat(st, "energy.dram_mj");
+    f->dram_static_mj = stat(st, "energy.dram_static_mj");
+    f->mem_requests = stat(st, "memory.requests");
+    f->mem_latency = f->mem_requests > 0 ? stat(st, "memory.latency_sum") / f->mem_requests : 0;
+    f->dram_gbs = stat(st, "dram_bandwidth_gbs");
+    f->row_hit = stat(st, "dram.row_hit_rate");
+}
+
+/* Runs the cycle model with cfg on the pixels map[0..n) (map NULL: the
+ * whole frame). *keep: the top is handed back (else destroyed). */
+static int run_model(const fid_job *job, const rtcfg *cfg, const uint32_t *map, uint32_t n, model_fig *fig,
+                     accel_top **keep, char *err, size_t errlen)
+{
+    rtsim_frame frame;
+    accel_source src;
+    if (!rtsim_frame_init(&frame, job->mesh, job->view, job->width, job->height, job->diffuse, job->bounces,
+                          job->seed, false, &src, err, errlen))
+        return 2;
+    subset_src ss = {&frame, map};
+    src.user = &ss;
+    src.primary = sub_primary;
+    src.bounce = sub_bounce;
+    src.complete = sub_complete;
+    if (map)
+        src.primary_count = n;
+    accel_image aimg = rtsim_image(job->img);
+    accel_top_opts o = {0};
+    accel_top *top = accel_top_create(cfg, &aimg, &src, &o, err, errlen);
+    if (!top) {
+        rtsim_frame_free(&frame);
+        return 2;
+    }
+    int rc = accel_top_run(top, map ? NULL : job->progress, job->progress_user, err, errlen) ? 1 : 0;
+    get_fig(top, fig);
+
+    rtsim_frame_free(&frame);
+    if (keep && rc == 0)
+        *keep = top;
+    else
+        accel_top_destroy(top);
+    return rc;
+}
+
+/* ---- own statistics registry (functional, sampled) ---------------------- */
+
+typedef struct fid_own {
+    uint64_t cycles, rays, primaries, bounces, dram_bytes, visits, box_tests, leaves, tri_tests;
+    double mrps, dram_gbs, energy_mj, l1_hit, l2_hit, prim_hit, row_hit;
+    double cyc_trv, cyc_ist, cyc_dram, cyc_lat, mem_latency, runner_up;
+    uint64_t samples, sample_rays;
+    double sample_rate;
+    const char *bound;
+    bool has_func, is_sampled;
+} fid_own;
+
+static int own_stats(fid_outcome *o)
+{
+    fid_own *w = o->own;
+    ks_stats *st = o->stats = ks_stats_create();
+    if (!st)
+        return -1;
+    int rc = 0;
+    rc |= ks_stat_counter_ref(st, "cycles", "cycles", "estimated accelerator cycles of the frame", &w->cycles);
+    rc |= ks_stat_counter_ref(st, "rays", "rays", "rays traced (primary and bounce)", &w->rays);
+    rc |= ks_stat_real_ref(st, "mrps", "Mrays/s", "estimated million rays per second at the machine clock", &w->mrps);
+    rc |= ks_stat_counter_ref(st, "dram_bytes", "bytes", "estimated bytes transferred from/to main memory",
+                              &w->dram_bytes);
+    rc |= ks_stat_real_ref(st, "dram_bandwidth_gbs", "GB/s", "estimated mean main memory bandwidth", &w->dram_gbs);
+    rc |= ks_stat_real_ref(st, "energy_mj", "mJ", "estimated energy of the frame", &w->energy_mj);
+    rc |= ks_stat_counter_ref(st, "sched.primaries", "rays", "primary rays", &w->primaries);
+    rc |= ks_stat_counter_ref(st, "sched.bounces", "rays", "bounce rays", &w->bounces);
+    if (w->has_func) {
+        rc |= ks_stat_counter_ref(st, "functional.visits", "nodes", "node visits of the frame", &w->visits);
+        rc |= ks_stat_counter_ref(st, "functional.box_tests", "tests", "child slab tests", &w->box_tests);
+        rc |= ks_stat_counter_ref(st, "functional.leaves", "leaves", "leaves sent to the IST", &w->leaves);
+        rc |= ks_stat_counter_ref(st, "functional.tri_tests", "tests", "triangle tests", &w->tri_tests);
+        rc |= ks_stat_real_ref(st, "functional.node_l1_hit_rate", "ratio", "node L1 hits / accesses", &w->l1_hit);
+        rc |= ks_stat_real_ref(st, "functional.node_l2_hit_rate", "ratio", "node L2 hits / accesses", &w->l2_hit);
+        rc |= ks_stat_real_ref(st, "functional.prim_hit_rate", "ratio", "primitive cache hits / accesses",
+                               &w->prim_hit);
+        rc |= ks_stat_real_ref(st, "functional.dram_row_hit_rate", "ratio",
+                               "DRAM line reads that found their row open", &w->row_hit);
+        rc |= ks_stat_real_ref(st, "functional.cycles_trv", "cycles", "busiest TRV's issue cycles", &w->cyc_trv);
+        rc |= ks_stat_real_ref(st, "functional.cycles_ist", "cycles", "IST issue cycles", &w->cyc_ist);
+        rc |= ks_stat_real_ref(st, "functional.cycles_dram", "cycles", "DRAM transfer cycles at peak bandwidth",
+                               &w->cyc_dram);
+        rc |= ks_stat_real_ref(st, "functional.cycles_latency", "cycles",
+                               "latency bound: summed ray latencies / ray slots (Little's law)", &w->cyc_lat);
+        rc |= ks_stat_real_ref(st, "functional.mem_latency", "cycles", "modelled memory latency at the utilisation",
+                               &w->mem_latency);
+        rc |= ks_stat_real_ref(st, "functional.runner_up", "ratio", "second largest bound / largest (1 = a tie)",
+                               &w->runner_up);
+    }
+    if (w->is_sampled) {
+        rc |= ks_stat_counter_ref(st, "sample.groups", "groups", "independent groups of pixel rows modelled",
+                                  &w->samples);
+        rc |= ks_stat_counter_ref(st, "sample.rays", "rays", "rays through the full model", &w->sample_rays);
+        rc |= ks_stat_real_ref(st, "sample.rate", "fraction", "fraction of the pixels modelled", &w->sample_rate);
+    }
+    rc |= fid_register_stats(&o->res, st);
+    return rc;
+}
+
+static void own_from_func(fid_own *w, const fid_func *f)
+{
+    w->has_func = true;
+    w->visits = f->visits, w->box_tests = f->box_tests, w->leaves = f->leaves, w->tri_tests = f->tri_tests;
+    w->primaries = f->primaries, w->bounces = f->bounces, w->rays = f->rays;
+    w->l1_hit = f->l1.accesses ? (double)f->l1.hits / (double)f->l1.accesses : 0;
+    w->l2_hit = f->l2.accesses ? (double)f->l2.hits / (double)f->l2.accesses : 0;
+    w->prim_hit = f->prim.accesses ? (double)f->prim.hits / (double)f->prim.accesses : 0;
+    w->row_hit = f->dram_lines ? (double)f->row_hits / (double)f->dram_lines : 0;
+    w->cyc_trv = f->cyc_trv, w->cyc_ist = f->cyc_ist, w->cyc_dram = f->cyc_dram, w->cyc_lat = f->cyc_lat;
+    w->mem_latency = f->mem_latency, w->runner_up = f->runner_up, w->bound = f->bound;
+}
+
+static void set_headline(fid_outcome *o, double clock_mhz)
+{
+    fid_own *w = o->own;
+    double sec = (double)w->cycles / (clock_mhz * 1e6);
+    w->mrps = sec > 0 ? (double)w->rays / sec / 1e6 : 0;
+    w->dram_gbs = sec > 0 ? (double)w->dram_bytes / sec / 1e9 : 0;
+    o->cycles = (double)w->cycles, o->rays = (double)w->rays, o->mrps = w->mrps;
+    o->dram_bytes = (double)w->dram_bytes, o->energy_mj = w->energy_mj;
+}
+
+/* ---- the levels ---------------------------------------------------------- */
+
+static void set_unreliable(fid_result *r, const char *why)
+{
+    if (!r->unreliable)
+        snprintf(r->reason, sizeof r->reason, "%s", why);
+    else {
+        size_t n = strlen(r->reason);
+        snprintf(r->reason + n, sizeof r->reason - n, "; %s", why);
+    }
+    r->unreliable = 1;
+}
+
+/* Saves and restores the memory keys fixed-mem changes. */
+typedef struct mem_keys {
+    char model[32], latency[32], bw[64], pj[64];
+} mem_keys;
+
+static void save_keys(const rtcfg *cfg, mem_keys *k)
+{
+    snprintf(k->model, sizeof k->model, "memory.model=%s", rtcfg_str(cfg, "memory.model"));
+    snprintf(k->latency, sizeof k->latency, "memory.fixed_latency=%lld", (long long)rtcfg_int(cfg, "memory.fixed_latency"));
+    snprintf(k->bw, sizeof k->bw, "memory.fixed_bandwidth_gbs=%.17g", rtcfg_real(cfg, "memory.fixed_bandwidth_gbs"));
+    snprintf(k->pj, sizeof k->pj, "energy.fixed_mem_pj_per_byte=%.17g", rtcfg_real(cfg, "energy.fixed_mem_pj_per_byte"));
+}
+
+static int restore_keys(rtcfg *cfg, const mem_keys *k, char *err, size_t errlen)
+{
+    return rtcfg_set(cfg, k->model, err, errlen) || rtcfg_set(cfg, k->latency, err, errlen) ||
+                   rtcfg_set(cfg, k->bw, err, errlen) || rtcfg_set(cfg, k->pj, err, errlen)
+               ? 2
+               : 0;
+}
+
+static int set_fixed(rtcfg *cfg, double latency, double pj, char *err, size_t errlen)
+{
+    char a[64], b[64];
+    snprintf(a, sizeof a, "memory.fixed_latency=%lld", (long long)llround(latency < 1 ? 1 : latency));
+    snprintf(b, sizeof b, "energy.fixed_mem_pj_per_byte=%.6g", pj);
+    return rtcfg_set(cfg, "memory.model=fixed", err, errlen) || rtcfg_set(cfg, a, err, errlen) ||
+                   rtcfg_set(cfg, b, err, errlen)
+               ? 2
+               : 0;
+}
+
+static uint32_t pilot_period(const fid_job *job, double fraction)
+{
+    const fid_params *fp = fid_params_get();
+    double pixels = (double)job->width * job->height;
+    if (pixels * fraction < fp->pilot_min_pixels)
+        fraction = fp->pilot_min_pixels / pixels;
+    if (fraction >= 0.5)
+        return 1;
+    return (uint32_t)llround(1.0 / fraction);
+}
+
+/* fixed-mem: a full pilot on interleaved row bands measures the memory (mean
+ * latency, achieved bandwidth, DRAM energy per byte); the fixed model's
+ * latency is fitted so that the pilot's cycles match (two fixed pilots and
+ * a secant step); then the whole frame runs on the fitted fixed memory. */
+static int run_fixed_mem(const fid_job *job, fid_outcome *o, char *err, size_t errlen)
+{
+    const fid_params *fp = fid_params_get();
+    rtcfg *cfg = job->cfg;
+    fid_result *r = &o->res;
+    r->level = FID_FIXED_MEM;
+    if (rtcfg_enum(cfg, "memory.model") != MEMSYS_LPDDR3) {
+        model_fig f;
+        snprintf(r->detail, sizeof r->detail, "memory.model is already fixed: the full model of this machine");
+        return run_model(job, cfg, NULL, 0, &f, &o->top, err, errlen);
+    }
+    mem_keys saved;
+    save_keys(cfg, &saved);
+    uint32_t period = pilot_period(job, fp->pilot_fraction), n = 0;
+    uint32_t *px = NULL;
+    if (period > 1 && !(px = band_subset(job, period, 0, 1, &n))) {
+        snprintf(err, errlen, "out of memory");
+        return 2;
+    }
+    model_fig full, f0, f1, fin;
+    double L = 0, util = 0, resid = 0, dram_static_share = 0, pilot_latency = 0, pilot_row_hit = 1;
+    int rc = run_model(job, cfg, px, n, &full, NULL, err, errlen);
+    if (rc == 0) {
+        double gbs = rtcfg_real(cfg, "memory.fixed_bandwidth_gbs");
+        double bpc = gbs * 1000.0 / rtcfg_real(cfg, "machine.clock_mhz");
+        util = gbs > 0 ? full.dram_gbs / gbs : 0;
+        double line = full.mem_requests > 0 ? full.dram_bytes / full.mem_requests : 64;
+        /* the fixed model moves the line over its bus before the latency */
+        double L0 = fmax(1.0, full.mem_latency - (bpc > 0 ? line / bpc : 0));
+        double pj = full.dram_bytes > 0 ? full.dram_mj * 1e9 / full.dram_bytes : rtcfg_real(cfg, "energy.fixed_mem_pj_per_byte");
+        L = L0;
+        dram_static_share = full.energy_mj > 0 ? full.dram_static_mj / full.energy_mj : 0;
+        pilot_latency = full.mem_latency, pilot_row_hit = full.row_hit;
+        if (!(rc = set_fixed(cfg, L0, pj, err, errlen)))
+            rc = run_model(job, cfg, px, n, &f0, NULL, err, errlen);
+        if (rc == 0 && full.cycles > 0 && fabs(f0.cycles - full.cycles) > 0.005 * full.cycles) {
+            double L1 = fmax(1.0, L0 * (f0.cycles > full.cycles ? 0.7 : 1.3));
+            if (!(rc = set_fixed(cfg, L1, pj, err, errlen)))
+                rc = run_model(job, cfg, px, n, &f1, NULL, err, errlen);
+            if (rc == 0 && fabs(f1.cycles - f0.cycles) > 0.5)
+                L = L0 + (full.cycles - f0.cycles) * (L1 - L0) / (f1.cycles - f0.cycles);
+            else if (rc == 0)
+                L = L1;
+            L = fmin(fmax(L, 1.0), 20.0 * L0 + 100.0);
+            resid = fmin(fabs(f0.cycles - full.cycles), fabs(f1.cycles - full.cycles)) / full.cycles;
+            if (fabs(f1.cycles - full.cycles) < fabs(f0.cycles - full.cycles) && fabs(f1.cycles - f0.cycles) <= 0.5)
+                L = L1;
+        }
+        if (rc == 0 && !(rc = set_fixed(cfg, L, pj, err, errlen)))
+            rc = run_model(job, cfg, NULL, 0, &fin, &o->top, err, errlen);
+        snprintf(r->detail, sizeof r->detail,
+                 "full-fidelity pilot on %u of %u pixels (row bands): mean memory latency %.1f cycles, %.2f GB/s "
+                 "(%.0f%% of peak), %.0f%% row hits; fixed memory calibrated to latency %.0f cycles, %.0f pJ/byte",
+                 px ? n : job->width * job->height, job->width * job->height, full.mem_latency, full.dram_gbs,
+                 100.0 * util, 100.0 * full.row_hit, L, pj);
+    }
+    if (restore_keys(cfg, &saved, err, errlen) && rc == 0)
+        rc = 2;
+    free(px);
+    r->err_mrps = fp->fixed_err_base + fp->fixed_err_util * util * util + resid;
+    r->err_dram_mb = fp->fixed_err_base;
+    /* the DRAM's background energy follows time, not bytes: the pJ/byte of
+     * the pilot carries it only at the pilot's bytes per second */
+    r->err_energy_mj = r->err_mrps + dram_static_share;
+    if (util > fp->fixed_max_util) {
+        char why[200];
+        snprintf(why, sizeof why,
+                 "fixed-mem: the pilot's DRAM utilisation %.0f%% exceeds %.0f%%: queueing and row conflicts at "
+                 "saturation are outside the range the calibration holds",
+                 100.0 * util, 100.0 * fp->fixed_max_util);
+        set_unreliable(r, why);
+    }
+    /* saturation shows in the latency as well: with few row hits the
+     * LPDDR3 saturates far below its peak bandwidth (the furball stand-in:
+     * 59% of peak, 37% row hits, 203 cycles mean latency) */
+    double unloaded = fp->dram_latency + (1.0 - pilot_row_hit) * fp->row_miss_cycles;
+    if (pilot_latency > fp->fixed_max_latency_ratio * unloaded) {
+        char why[240];
+        snprintf(why, sizeof why,
+                 "fixed-mem: the pilot's mean memory latency %.0f cycles is %.1f times the unloaded %.0f: the "
+                 "DRAM is saturated, where one fixed latency stands for a queue that changes with the load",
+                 pilot_latency, pilot_latency / unloaded, unloaded);
+        set_unreliable(r, why);
+    }
+    return rc;
+}
+
+/* The functional level's own error model (fidelity_params.h): a clear
+ * bottleneck is predicted within func_err_base; as the runner-up bound
+ * approaches a tie the units interfere and the estimate grows. */
+static void functional_errors(const fid_func *f, fid_result *r)
+{
+    const fid_params *fp = fid_params_get();
+    double tie = f->runner_up > 0.5 ? (f->runner_up - 0.5) / 0.5 : 0;
+    double row_miss = f->dram_lines ? 1.0 - (double)f->row_hits / (double)f->dram_lines : 0;
+    /* the DRAM queueing term is the crudest part: its share grows with the
+     * utilisation and the row misses (hairball BVH2 diffuse: 143 cycles
+     * measured against 88 modelled at 46% utilisation, 13% row hits) */
+    r->err_mrps = fp->func_err_base + fp->func_err_tie * tie + fp->func_err_mem * f->dram_util * row_miss;
+    r->err_dram_mb = fp->func_err_dram;
+    r->err_energy_mj = fp->func_err_energy;
+    if (f->runner_up >= fp->func_tie_flag) {
+        char why[200];
+        snprintf(why, sizeof why,
+                 "functional: the %s bound and the next are within %.0f%% of a tie: units interfere, the "
+                 "throughput model does not hold",
+                 f->bound, 100.0 * (1.0 - f->runner_up));
+        set_unreliable(r, why);
+    }
+    if (f->dram_util > fp->fixed_max_util) {
+        char why[200];
+        snprintf(why, sizeof why,
+                 "functional: DRAM utilisation %.0f%% exceeds %.0f%%: the queueing model does not hold at saturation",
+                 100.0 * f->dram_util, 100.0 * fp->fixed_max_util);
+        set_unreliable(r, why);
+    }
+}
+
+/* Energy of a frame from a cycle-model sample and the functional counts of
+ * sample and frame: dynamic energy scales with the work (visits + triangle
+ * tests), DRAM energy with DRAM bytes, static energy with the time. */
+static double energy_ratio(const model_fig *m, const fid_func *fs, const fid_func *ff, double frame_seconds)
+{
+    double work_s = (double)(fs->visits + fs->tri_tests), work_f = (double)(ff->visits + ff->tri_tests);
+    double dyn = m->energy_mj - m->static_mj - m->dram_mj;
+    double sec_s = m->mrps > 0 ? m->rays / (m->mrps * 1e6) : 0;
+    double e = (work_s > 0 ? dyn * work_f / work_s : 0) +
+               (fs->dram_bytes ? m->dram_mj * (double)ff->dram_bytes / (double)fs->dram_bytes : 0) +
+               (sec_s > 0 ? m->static_mj * frame_seconds / sec_s : 0);
+    return e;
+}
+
+static int run_functional(const fid_job *job, fid_outcome *o, fid_func *ff, char *err, size_t errlen)
+{
+    const fid_params *fp = fid_params_get();
+    fid_result *r = &o->res;
+    r->level = FID_FUNCTIONAL;
+    if (fid_functional_run(job, NULL, 0, ff, err, errlen))
+        return 2;
+    fid_own *w = o->own;
+    own_from_func(w, ff);
+    w->cycles = (uint64_t)ff->cycles;
+    w->dram_bytes = ff->dram_bytes;
+    functional_errors(ff, r);
+    /* energy: a small cycle-model pilot scaled by the functional counts */
+    uint32_t period = pilot_period(job, fp->pilot_fraction / 4), n = 0;
+    uint32_t *px = period > 1 ? band_subset(job, period, 0, 1, &n) : NULL;
+    model_fig m;
+    fid_func fs;
+    int rc = run_model(job, job->cfg, px, n, &m, NULL, err, errlen);
+    if (rc == 0 && fid_functional_run(job, px, px ? n : job->width * job->height, &fs, err, errlen))
+        rc = 2;
+    free(px);
+    if (rc)
+        return rc;
+    double sec = ff->cycles / (ff->clock_mhz * 1e6);
+    w->energy_mj = energy_ratio(&m, &fs, ff, sec);
+    /* the energy's static part follows the time: the MRPS error carries over */
+    r->err_energy_mj += m.energy_mj > 0 ? r->err_mrps * m.static_mj / m.energy_mj : 0;
+    set_headline(o, ff->clock_mhz);
+    snprintf(r->detail, sizeof r->detail,
+             "functional: %s-bound (TRV %.0f, IST %.0f, DRAM %.0f, latency %.0f cycles; runner-up %.0f%% of it); "
+             "energy from a cycle-model pilot on %u pixels",
+             ff->bound, ff->cyc_trv, ff->cyc_ist, ff->cyc_dram, ff->cyc_lat, 100.0 * ff->runner_up,
+             px ? n : job->width * job->height);
+    return 0;
+}
+
+/* The miss-wait scale at which the functional cycles of sample fs equal
+ * target (bisection on a log scale; cycles grow with the scale). */
+static double calibrate_miss_scale(const fid_job *job, fid_func *fs, double target)
+{
+    double lo = log(0.05), hi = log(20.0);
+    for (int it = 0; it < 40; it++) {
+        double mid = 0.5 * (lo + hi);
+        fid_functional_retime(job, fs, exp(mid));
+        if (fs->cycles < target)
+            lo = mid;
+        else
+            hi = mid;
+    }
+    double k = exp(0.5 * (lo + hi));
+    fid_functional_retime(job, fs, k);
+    return k;
+}
+
+/* sampled: the cycle model on `groups` disjoint sets of row bands;
+ * each group's figures scaled to the frame by the functional pass (ratio
+ * estimator: model(sample) x functional(frame) / functional(sample)), the
+ * groups' spread giving a Student-t 95% confidence interval. ff: the
+ * functional pass of the frame (made here when ff->rays == 0). */
+static int run_sampled(const fid_job *job, double rate, fid_outcome *o, fid_func *ff, char *err, size_t errlen)
+{
+    const fid_params *fp = fid_params_get();
+    fid_result *r = &o->res;
+    r->level = FID_SAMPLED;
+    if (!ff->rays && fid_functional_run(job, NULL, 0, ff, err, errlen))
+        return 2;
+    int G = fp->sample_groups;
+    uint32_t period = (uint32_t)llround((double)G / rate);
+    if (period < (uint32_t)G)
+        period = (uint32_t)G;
+    double est[3][16] = {{0}}, sample_rays = 0, dev[2] = {0, 0}, static_share = 0, raw_mrps_dev = 0;
+    uint32_t min_pixels = UINT32_MAX;
+    int rc = 0;
+    for (int g = 0; g < G && rc == 0; g++) {
+        uint32_t n = 0;
+        uint32_t *px = band_subset(job, period, (uint32_t)g, (uint32_t)G, &n);
+        if (!px) {
+            snprintf(err, errlen, "out of memory");
+            return 2;
+        }
+        if (n < min_pixels)
+            min_pixels = n;
+        model_fig m;
+        fid_func fs;
+        if (n == 0) {
+            free(px);
+            continue;
+        }
+        rc = run_model(job, job->cfg, px, n, &m, NULL, err, errlen);
+        if (rc == 0 && fid_functional_run(job, px, n, &fs, err, errlen))
+            rc = 2;
+        free(px);
+        if (rc)
+            break;
+        sample_rays += m.rays;
+        /* MRPS: the misses' cost calibrated on the sample (the functional
+         * model's miss wait scaled until its cycles for the sample equal
+         * the cycle model's), then applied to the frame's counts. How far
+         * that moves the frame's figure bounds how much the calibration's
+         * extrapolation may err: all of it goes into the estimate (half
+         * left 3 of 32 sampled points at 320x180 silently outside). */
+        double raw_dev = fabs(fs.mrps / m.mrps - 1.0);
+        double k = calibrate_miss_scale(job, &fs, m.cycles);
+        fid_func fk = *ff;
+        fid_functional_retime(job, &fk, k);
+        est[0][g] = fk.mrps;
+        dev[0] += (ff->mrps > 0 ? fabs(fk.mrps / ff->mrps - 1.0) : 0) / G;
+        raw_mrps_dev += raw_dev / G;
+        /* DRAM bytes and energy: ratio estimators (model on the sample x
+         * functional frame / functional sample); the functional model's DRAM
+         * error on the sample bounds the assumption that it errs alike */
+        dev[1] += (m.dram_bytes > 0 ? fabs((double)fs.dram_bytes / m.dram_bytes - 1.0) : 0) / G;
+        static_share += (m.energy_mj > 0 ? m.static_mj / m.energy_mj : 0) / G;
+        est[1][g] = fs.dram_bytes ? m.dram_bytes * (double)ff->dram_bytes / (double)fs.dram_bytes : 0;
+        double sec = est[0][g] > 0 ? (double)ff->rays / (est[0][g] * 1e6) : 0;
+        est[2][g] = energy_ratio(&m, &fs, ff, sec);
+    }
+    if (rc)
+        return rc;
+    double mean[3], rel[3];
+    for (int k = 0; k < 3; k++) {
+        double s = 0, s2 = 0;
+        for (int g = 0; g < G; g++)
+            s += est[k][g];
+        mean[k] = s / G;
+        for (int g = 0; g < G; g++)
+            s2 += (est[k][g] - mean[k]) * (est[k][g] - mean[k]);
+        double sd = G > 1 ? sqrt(s2 / (G - 1)) : 0;
+        /* half-width of the 95% CI of the mean, relative; a floor for the
+         * ratio estimator's own bias (docs/fidelity.md) */
+        rel[k] = mean[k] > 0 ? fp->sample_t95 * sd / sqrt((double)G) / mean[k] : 1.0;
+    }
+    double ci[3] = {rel[0], rel[1], rel[2]};
+    /* plus the ratio estimator's bias bound, with a floor (fidelity_params.h) */
+    rel[0] += dev[0] + fp->sample_err_floor;
+    /* DRAM: the functional pass may err on the frame's capacity misses
+     * more than on a sample's (mostly cold) ones, which the sample cannot
+     * show: a fixed bias bound */
+    rel[1] += dev[1] + fp->sample_err_floor + fp->sample_err_dram;
+    /* energy: its dynamic part is scaled by work, while the sample's misses
+     * (and their retries) are more frequent than the frame's; the raw
+     * functional-vs-model gap on the sample bounds that */
+    rel[2] += dev[0] + raw_mrps_dev * fmax(static_share, 0.5) + dev[1] + fp->sample_err_floor;
+    r->err_mrps = rel[0], r->err_dram_mb = rel[1], r->err_energy_mj = rel[2];
+    fid_own *w = o->own;
+    own_from_func(w, ff);
+    w->is_sampled = true;
+    w->samples = (uint64_t)G;
+    w->sample_rays = (uint64_t)sample_rays;
+    w->sample_rate = rate;
+    w->rays = ff->rays;
+    w->cycles = mean[0] > 0 ? (uint64_t)llround((double)ff->rays / (mean[0] * 1e6) * ff->clock_mhz * 1e6) : 0;
+    w->dram_bytes = (uint64_t)llround(mean[1]);
+    w->energy_mj = mean[2];
+    set_headline(o, ff->clock_mhz);
+    o->mrps = w->mrps = mean[0];
+    snprintf(r->detail, sizeof r->detail,
+             "sampled: the full model on %d groups of %.2f%% of the pixels (bands of %d rows, %.0f rays), scaled by "
+             "the functional pass of the frame (ratio estimator)",
+             G, 100.0 * rate / G, fp->band_rows, sample_rays);
+    double bound = r->accuracy > 0 ? r->accuracy : fp->sample_max_err;
+    if (min_pixels < 64 || r->err_mrps > bound || r->err_dram_mb > bound || r->err_energy_mj > bound) {
+        char why[400];
+        snprintf(why, sizeof why,
+                 "sampled at %.2f%% of the pixels: error estimate (95%% CI MRPS %.1f%%, DRAM %.1f%%, mJ %.1f%%; "
+                 "functional vs model on the sample before calibration %.1f%%, DRAM %.1f%%) exceeds the %.1f%% bound%s",
+                 100.0 * rate, 100.0 * ci[0], 100.0 * ci[1], 100.0 * ci[2], 100.0 * raw_mrps_dev, 100.0 * dev[1],
+                 100.0 * bound, min_pixels < 64 ? "; a group has under 64 pixels" : "");
+        set_unreliable(r, why);
+    }
+    return 0;
+}
+
+static int run_full(const fid_job *job, fid_outcome *o, char *err, size_t errlen)
+{
+    model_fig f;
+    o->res.level = FID_FULL;
+    o->res.err_mrps = o->res.err_dram_mb = o->res.err_energy_mj = 0;
+    int rc = run_model(job, job->cfg, NULL, 0, &f, &o->top, err, errlen);
+    o->cycles = f.cycles, o->rays = f.rays, o->mrps = f.mrps, o->dram_bytes = f.dram_bytes, o->energy_mj = f.energy_mj;
+    return rc;
+}
+
+static double worst(const fid_result *r)
+{
+    return fmax(r->err_mrps, fmax(r->err_dram_mb, r->err_energy_mj));
+}
+
+/* --accuracy: functional when its estimates fit; else sampled, at a rate
+ * raised (once) to what its first interval says the bound needs; else full. */
+static int run_auto(const fid_job *job, double acc, fid_outcome *o, char *err, size_t errlen)
+{
+    const fid_params *fp = fid_params_get();
+    fid_func ff;
+    memset(&ff, 0, sizeof ff);
+    fid_outcome trial;
+    memset(&trial, 0, sizeof trial);
+    trial.own = calloc(1, sizeof *trial.own);
+    if (!trial.own) {
+        snprintf(err, errlen, "out of memory");
+        return 2;
+    }
+    trial.res.accuracy = acc;
+    char why[256] = "";
+    int rc = run_functional(job, &trial, &ff, err, errlen);
+    if (rc)
+        goto out;
+    if (!trial.res.unreliable && worst(&trial.res) <= acc) {
+        *o = trial;
+        snprintf(o->res.choice, sizeof o->res.choice, "--accuracy %.3g%%: picked functional (estimated error %.1f%%)",
+                 100 * acc, 100 * worst(&o->res));
+        return 0;
+    }
+    snprintf(why, sizeof why, "functional's estimate %.1f%%%s", 100 * worst(&trial.res),
+             trial.res.unreliable ? " (flagged)" : "");
+    double rate = job->sample_rate > 0 ? job->sample_rate : fp->sample_rate;
+    for (int attempt = 0; attempt < 2; attempt++) {
+        free(trial.own);
+        memset(&trial, 0, sizeof trial);
+        if (!(trial.own = calloc(1, sizeof *trial.own))) {
+            snprintf(err, errlen, "out of memory");
+            return 2;
+        }
+        trial.res.accuracy = acc;
+        if ((rc = run_sampled(job, rate, &trial, &ff, err, errlen)))
+            goto out;
+        double w = worst(&trial.res);
+        if (!trial.res.unreliable && w <= acc) {
+            *o = trial;
+            snprintf(o->res.choice, sizeof o->res.choice,
+                     "--accuracy %.3g%%: picked sampled at %.2f%% of the pixels (estimated error %.1f%%; %s)",
+                     100 * acc, 100 * rate, 100 * w, why);
+            return 0;
+        }
+        size_t n = strlen(why);
+        snprintf(why + n, sizeof why - n, ", sampled at %.2f%%: %.1f%%", 100 * rate, 100 * w);
+        /* the interval shrinks as 1/sqrt(sample): the rate the bound needs */
+        double need = rate * (w / acc) * (w / acc) * 1.3;
+        if (need > 0.35 || attempt == 1)
+            break;
+        rate = need;
+    }
+    free(trial.own);
+    trial.own = NULL;
+    rc = run_full(job, o, err, errlen);
+    snprintf(o->res.choice, sizeof o->res.choice, "--accuracy %.3g%%: fell back to full (%s)", 100 * acc, why);
+    return rc;
+out:
+    free(trial.own);
+    return rc;
+}
+
+int fid_run(const fid_job *job, fid_level level, double accuracy, fid_outcome *o, char *err, size_t errlen)
+{
+    memset(o, 0, sizeof *o);
+    int rc;
+    if (accuracy > 0) {
+        rc = run_auto(job, accuracy, o, err, errlen);
+        o->res.accuracy = accuracy;
+    } else {
+        o->own = calloc(1, sizeof *o->own);
+        if (!o->own) {
+            snprintf(err, errlen, "out of memory");
+            return 2;
+        }
+        fid_func ff;
+        memset(&ff, 0, sizeof ff);
+        switch (level) {
+        case FID_FIXED_MEM: rc = run_fixed_mem(job, o, err, errlen); break;
+        case FID_FUNCTIONAL: rc = run_functional(job, o, &ff, err, errlen); break;
+        case FID_SAMPLED:
+            rc = run_sampled(job, job->sample_rate > 0 ? job->sample_rate : fid_params_get()->sample_rate, o, &ff,
+                             err, errlen);
+            break;
+        default: rc = run_full(job, o, err, errlen); break;
+        }
+    }
+    if (rc == 0 || o->top) {
+        if (o->top) {
+            ks_stats *st = accel_top_stats(o->top);
+            model_fig f;
+            get_fig(o->top, &f);
+            o->cycles = f.cycles, o->rays = f.rays, o->mrps = f.mrps, o->dram_bytes = f.dram_bytes,
+            o->energy_mj = f.energy_mj;
+            if (fid_register_stats(&o->res, st)) {
+                snprintf(err, errlen, "fidelity statistics: %s", ks_stats_error(st));
+                return 2;
+            }
+        } else if (o->own && own_stats(o)) {
+            snprintf(err, errlen, "fidelity statistics: %s", o->stats ? ks_stats_error(o->stats) : "out of memory");
+            return 2;
+        }
+    }
+    return rc;
+}
+
+ks_stats *fid_outcome_stats(fid_outcome *o) { return o->top ? accel_top_stats(o->top) : o->stats; }
+
+void fid_outcome_print(fid_outcome *o, FILE *out)
+{
+    if (o->top) {
+        accel_top_print_summary(o->top, out);
+        return;
+    }
+    fid_own *w = o->own;
+    if (!w)
+        return;
+    fprintf(out, "cycles      %llu (estimated)\n", (unsigned long long)w->cycles);
+    fprintf(out, "rays        %llu (%llu primary, %llu bounce)\n", (unsigned long long)w->rays,
+            (unsigned long long)w->primaries, (unsigned long long)w->bounces);
+    fprintf(out, "MRPS        %.2f (estimated)\n", w->mrps);
+    if (w->has_func) {
+        fprintf(out, "bounds      trv %.0f, ist %.0f, dram %.0f, latency %.0f cycles: %s-bound\n", w->cyc_trv,
+                w->cyc_ist, w->cyc_dram, w->cyc_lat, w->bound ? w->bound : "?");
+        fprintf(out, "caches      node L1 %.2f%% hits, node L2 %.2f%%, prim %.2f%%; DRAM rows %.1f%% hits (functional)\n",
+                100 * w->l1_hit, 100 * w->l2_hit, 100 * w->prim_hit, 100 * w->row_hit);
+    }
+    fprintf(out, "DRAM        %.2f MB, %.2f GB/s (estimated)\n", (double)w->dram_bytes / 1e6, w->dram_gbs);
+    fprintf(out, "energy      %.4g mJ/frame (estimated)\n", w->energy_mj);
+}
+
+void fid_outcome_free(fid_outcome *o)
+{
+    accel_top_destroy(o->top);
+    if (o->stats)
+        ks_stats_destroy(o->stats);
+    free(o->own);
+    memset(o, 0, sizeof *o);
+}

@@ -1,0 +1,43 @@
+/* fidelity_params.h — the constants of the cheaper fidelity levels: the
+ * functional level's throughput model, the pilots and samples, and the error
+ * model of each level. Each value is a measurement of the full model (how it
+ * was measured: docs/fidelity.md "Parameters"), not a property of the
+ * machine, so it lives here and not in the machine configuration. */
+#ifndef RTSIM_FIDELITY_PARAMS_H
+#define RTSIM_FIDELITY_PARAMS_H
+
+typedef struct fid_params {
+    /* functional throughput model */
+    double dram_latency;          /* unloaded LPDDR3 row-hit read, accelerator cycles, queueing excluded */
+    double row_miss_cycles;       /* extra cycles of a row miss (precharge + activate) */
+    double queue_cycles;          /* scale of the u / (1 - u) queueing term at DRAM utilisation u */
+    double ist_loop_extra;        /* cycles of an IST loop round trip beyond the test pipeline */
+    double mem_side_fifo_cycles;  /* L1 miss -> L2 -> fill FIFO hops */
+    double max_util;              /* cap of the DRAM utilisation in the queueing term */
+    double miss_waiters;          /* rays waiting per missing line (Little's law term) */
+    double func_err_base;         /* functional: relative MRPS error when one bound dominates */
+    double func_err_tie;          /* functional: added error as the runner-up bound reaches a tie */
+    double func_err_mem;          /* functional: added error per unit of DRAM utilisation x row-miss rate */
+    double func_tie_flag;         /* functional: runner-up/bound ratio from which it is flagged */
+    double func_err_dram;         /* functional: relative DRAM MB error (order of accesses) */
+    double func_err_energy;       /* functional: relative mJ/frame error */
+    /* fixed-mem */
+    double pilot_fraction;        /* of the pixels, in interleaved row bands */
+    double pilot_min_pixels;      /* at least this many (or the whole frame) */
+    double fixed_max_util;        /* DRAM utilisation of the pilot beyond which calibration does not hold */
+    double fixed_max_latency_ratio; /* pilot mean latency / unloaded latency beyond which it is saturated */
+    double fixed_err_base;        /* fixed-mem: relative MRPS error at low utilisation */
+    double fixed_err_util;        /* fixed-mem: added error per unit of utilisation squared */
+    /* sampled */
+    double sample_rate;           /* default fraction of the pixels */
+    int sample_groups;            /* independent groups (confidence interval) */
+    double sample_t95;            /* Student t, 95%, sample_groups - 1 degrees of freedom */
+    double sample_max_err;
+    double sample_err_dram;       /* sampled: bias bound of the DRAM ratio estimator */
+    double sample_err_floor;      /* sampled: floor added to every estimate (bias of the ratio estimator) */        /* estimated error beyond which a sampled result is flagged */
+    int band_rows;                /* rows per band of a sample */
+} fid_params;
+
+const fid_params *fid_params_get(void);
+
+#endif

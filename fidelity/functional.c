@@ -1,0 +1,360 @@
+/* functional.c — the functional level (see functional.h). */
+#include "fidelity/functional.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "frame/frame.h"
+#include "fidelity/fidelity_params.h"
+#include "model/dram/dram_addrmap.h"
+#include "model/mem/memsys_config.h"
+#include "model/ray/sort_net.h"
+#include "tracer/traverse.h"
+
+/* One memory access of a ray: a node (L1 of its TRV) or a triangle (prim). */
+typedef struct fn_access {
+    uint64_t addr;
+    uint8_t is_tri;
+} fn_access;
+
+typedef struct fn_slot {
+    bool busy;
+    fn_access *acc;
+    uint32_t n, cap, next;
+    rt_ray ray;
+    rt_hit hit;
+} fn_slot;
+
+typedef struct fn_state {
+    const fid_job *job;
+    const rt_bvh_image *img;
+    rt_trv_params tp;
+    rtsim_frame frame;
+    cache *l1[FID_MAX_TRV], *l2, *prim;
+    int64_t now_l1[FID_MAX_TRV], now_l2, now_prim;
+    dram_spec spec;
+    dram_addrmap map;
+    uint32_t *open_row;           /* per (channel, rank, bank); UINT32_MAX = closed */
+    uint32_t nbanks;
+    uint32_t l2_line;
+    fid_func *out;
+    fn_slot *cur;                 /* slot being traced (event callback) */
+    bool oom;
+} fn_state;
+
+static void record(fn_slot *s, uint64_t addr, uint8_t is_tri, fn_state *st)
+{
+    if (s->n == s->cap) {
+        uint32_t cap = s->cap ? 2 * s->cap : 64;
+        fn_access *a = realloc(s->acc, cap * sizeof *a);
+        if (!a) {
+            st->oom = true;
+            return;
+        }
+        s->acc = a, s->cap = cap;
+    }
+    s->acc[s->n].addr = addr;
+    s->acc[s->n].is_tri = is_tri;
+    s->n++;
+}
+
+static void on_event(void *user, const rt_trv_event *ev)
+{
+    fn_state *st = user;
+    if (ev->kind == RT_EV_VISIT)
+        record(st->cur, st->img->node_base + (uint64_t)ev->a * st->img->node_bytes, 0, st);
+    else if (ev->kind == RT_EV_TRI)
+        record(st->cur, st->img->tri_base + (uint64_t)ev->a * RT_TRI_BYTES, 1, st);
+}
+
+/* Traces the slot's ray at once (its accesses are replayed later). */
+static void trace_slot(fn_state *st, fn_slot *s, uint32_t trv)
+{
+    rt_trv_counts c = {0};
+    s->n = s->next = 0;
+    st->cur = s;
+    if (!rt_trace_ray(st->img, &st->tp, &s->ray, &s->hit, &c, on_event, st))
+        st->out->failed++;
+    fid_func *o = st->out;
+    o->rays++;
+    o->visits += c.visits, o->box_tests += c.box_tests, o->leaves += c.leaves, o->tri_tests += c.tri_tests;
+    o->pushes += c.pushes, o->pops += c.pops, o->culls += c.culls;
+    o->trv_visits[trv] += c.visits;
+    o->trv_leaves[trv] += c.leaves;
+    s->busy = true;
+}
+
+/* A line from main memory: bytes and row locality. */
+static void dram_read(fn_state *st, uint64_t addr, uint32_t bytes)
+{
+    st->out->dram_bytes += bytes;
+    st->out->dram_lines++;
+    dram_addr a;
+    dram_addrmap_decode(&st->map, addr, &a);
+    uint32_t b = (a.channel * (uint32_t)st->spec.ranks + a.rank) * (uint32_t)st->spec.banks + a.bank;
+    if (b < st->nbanks) {
+        if (st->open_row[b] == a.row)
+            st->out->row_hits++;
+        st->open_row[b] = a.row;
+    }
+}
+
+/* Serves every queued miss of c at once from below (next = NULL: DRAM). */
+static void fill_misses(fn_state *st, cache *c, int64_t now, cache *next, int64_t *next_now)
+{
+    mem_req q;
+    while (cache_pop_miss(c, &q)) {
+        if (next) {
+            cache_result r;
+            while ((r = cache_access(next, q.addr, q.bytes, *next_now)) == CACHE_BLOCKED)
+                *next_now += 1;
+            *next_now += 1;
+            if (r == CACHE_MISS)
+                fill_misses(st, next, *next_now, NULL, NULL);
+        } else {
+            dram_read(st, q.addr, q.bytes);
+        }
+        mem_resp resp = {q.addr, q.bytes, q.src, 0, q.tag};
+        cache_fill(c, &resp, now);
+    }
+}
+
+/* One access of a ray through its caches. */
+static void do_access(fn_state *st, const fn_access *a, uint32_t trv)
+{
+    cache *c = a->is_tri ? st->prim : st->l1[trv];
+    int64_t *now = a->is_tri ? &st->now_prim : &st->now_l1[trv];
+    uint32_t bytes = a->is_tri ? RT_TRI_BYTES : st->img->node_bytes;
+    cache_result r;
+    /* ports and banks are per cycle: each access gets cycles of its own */
+    while ((r = cache_access(c, a->addr, bytes, *now)) == CACHE_BLOCKED)
+        *now += 1;
+    *now += cache_last_access_cycles(c) + 1;
+    if (r == CACHE_MISS) {
+        if (a->is_tri)
+            fill_misses(st, c, *now, NULL, NULL);
+        else
+            fill_misses(st, c, *now, st->l2, &st->now_l2);
+    }
+}
+
+static int make_cache(const rtcfg *cfg, const char *section, cache **out, char *err, size_t errlen)
+{
+    cache_params p;
+    memsys_cache_params(cfg, section, &p);
+    /* misses are filled at once: one MSHR in use at a time per access line */
+    *out = cache_create(&p, err, errlen);
+    return *out ? 0 : -1;
+}
+
+static double max2(double a, double b) { return a > b ? a : b; }
+
+/* The throughput model (functional.h). */
+static void throughput(const fid_job *job, fid_func *o)
+{
+    const rtcfg *cfg = job->cfg;
+    const fid_params *fp = fid_params_get();
+    int width = (int)rtcfg_int(cfg, "machine.branching");
+    double clock = rtcfg_real(cfg, "machine.clock_mhz");
+    double fifo_lat = (double)rtcfg_int(cfg, "fifo.ray_latency");
+    double trv_depth = (double)rtcfg_int(cfg, "node_l1.hit_latency") + (double)rtcfg_int(cfg, "trv.stages_box") +
+                       sort_net_get(width)->layers + (double)rtcfg_int(cfg, "trv.stages_stack") +
+                       (double)rtcfg_int(cfg, "trv.stages_next");
+    double trv_period = trv_depth + fifo_lat;   /* a looping ray's round trip */
+    double ist_period = (double)rtcfg_int(cfg, "prim.hit_latency") + (double)rtcfg_int(cfg, "ist.latency") +
+                        fp->ist_loop_extra;
+    double l2_wait = (double)rtcfg_int(cfg, "node_l2.hit_latency") + fp->mem_side_fifo_cycles;
+    double bpc = rtcfg_real(cfg, "memory.fixed_bandwidth_gbs") * 1000.0 / clock;   /* bytes per cycle */
+    double slots = (double)rtcfg_int(cfg, "trv.count") * (double)rtcfg_int(cfg, "trv.slots");
+    double l1_lines = (double)o->l1.miss_lines, l2_lines = (double)o->l2.miss_lines,
+           prim_lines = (double)o->prim.miss_lines;
+    double l2_miss_frac = l1_lines > 0 ? l2_lines / l1_lines : 0;
+    double mean_line = o->dram_lines ? (double)o->dram_bytes / (double)o->dram_lines : 64.0;
+    double service = bpc > 0 ? mean_line / bpc : 0;   /* cycles a line holds the data bus */
+    double row_miss = o->dram_lines ? 1.0 - (double)o->row_hits / (double)o->dram_lines : 0;
+    o->cyc_dram = bpc > 0 ? (double)o->dram_bytes / bpc : 0;
+    double k = o->miss_scale > 0 ? o->miss_scale : 1.0;   /* fid_functional_retime */
+    double cycles = 1;
+    /* fixed point: cycles -> utilisation -> memory latency -> loops and
+     * ray latency -> cycles (converges in a few steps: latency grows with
+     * utilisation, cycles with latency, utilisation falls with cycles) */
+    for (int it = 0; it < 20; it++) {
+        double util = cycles > 0 ? fmin(o->cyc_dram / cycles, fp->max_util) : 0;
+        /* queueing grows as u / (1 - u) (M/D/1 shape); its scale is fitted
+         * to the LPDDR3 model, whose row misses and bank conflicts make the
+         * effective service time far longer than a line's bus transfer */
+        double mem = fp->dram_latency + row_miss * fp->row_miss_cycles + service +
+                     (util > 0 ? util / (1.0 - util) * fp->queue_cycles : 0);
+        double node_wait = (l2_wait + l2_miss_frac * mem) * k, mem_k = mem * k;
+        double trv_loops_per_miss = 1.0 + node_wait / trv_period, ist_loops_per_miss = 1.0 + mem_k / ist_period;
+        double busiest_trv = 0;
+        for (uint32_t i = 0; i < o->ntrv; i++)
+            busiest_trv = max2(busiest_trv, (double)o->trv_visits[i] + (double)o->trv_leaves[i] +
+                                                (double)o->trv_l1_miss_lines[i] * trv_loops_per_miss);
+        o->cyc_trv = busiest_trv;
+        o->cyc_ist = (double)o->tri_tests + prim_lines * ist_loops_per_miss;
+        /* summed ray latencies: each pass a round trip, each leaf the IST's
+         * depth, each miss its wait (Little: cycles >= sum / rays in flight) */
+        double lat_sum = ((double)o->visits + (double)o->leaves) * trv_period +
+                         (double)o->leaves * (ist_period + 2 * fifo_lat) + (double)o->tri_tests +
+                         l1_lines * node_wait * fp->miss_waiters + prim_lines * mem_k * fp->miss_waiters;
+        o->cyc_lat = lat_sum / slots;
+        double next = max2(max2(o->cyc_trv, o->cyc_ist), max2(o->cyc_dram, o->cyc_lat));
+        o->mem_latency = mem;
+        o->dram_util = util;
+        if (fabs(next - cycles) < 0.5)
+            break;
+        cycles = next;
+    }
+    double b[4] = {o->cyc_trv, o->cyc_ist, o->cyc_dram, o->cyc_lat};
+    static const char *const names[4] = {"trv", "ist", "dram", "latency"};
+    int top = 0;
+    for (int i = 1; i < 4; i++)
+        if (b[i] > b[top])
+            top = i;
+    double second = 0;
+    for (int i = 0; i < 4; i++)
+        if (i != top && b[i] > second)
+            second = b[i];
+    o->bound = names[top];
+    /* fill and drain: the last rays admitted (and their bounces) finish one
+     * path latency after the bound; each ray's latency is Little's
+     * slots x cycles / rays, at least its unloaded latency */
+    double rays = (double)o->rays, prim = o->primaries ? (double)o->primaries : 1;
+    double ray_lat = rays > 0 ? fmax(slots * b[top] / rays, o->cyc_lat * slots / rays) : 0;
+    o->cyc_tail = ray_lat * (rays / prim);
+    o->cyc_bound = b[top];
+    o->cycles = ceil(b[top] + o->cyc_tail);
+    o->runner_up = b[top] > 0 ? second / b[top] : 0;
+    o->clock_mhz = clock;
+    o->mrps = o->cycles > 0 ? (double)o->rays / (o->cycles / (clock * 1e6)) / 1e6 : 0;
+}
+
+void fid_functional_retime(const fid_job *job, fid_func *f, double miss_scale)
+{
+    f->miss_scale = miss_scale;
+    throughput(job, f);
+}
+
+int fid_functional_run(const fid_job *job, const uint32_t *pixels, uint32_t npix, fid_func *out, char *err,
+                       size_t errlen)
+{
+    fn_state st;
+    memset(&st, 0, sizeof st);
+    memset(out, 0, sizeof *out);
+    st.job = job;
+    st.img = job->img;
+    st.out = out;
+    const rtcfg *cfg = job->cfg;
+    uint32_t ntrv = (uint32_t)rtcfg_int(cfg, "trv.count"), per = (uint32_t)rtcfg_int(cfg, "trv.slots");
+    if (ntrv > FID_MAX_TRV) {
+        snprintf(err, errlen, "trv.count = %u: the functional level supports at most %d TRVs", ntrv, FID_MAX_TRV);
+        return -1;
+    }
+    out->ntrv = ntrv;
+    rt_trv_params_default(&st.tp, job->img->width);
+    st.tp.stack_depth = (int)rtcfg_int(cfg, "trv.stack_depth");
+    /* the distance stack as the machine has it (accel_config: auto = N > 2) */
+    accel_params ap;
+    accel_params_get(cfg, &ap);
+    st.tp.distance_cull = ap.trv.core.distance_cull;
+    accel_source src;
+    int rc = -1;
+    uint32_t nslots = ntrv * per;
+    fn_slot *slots = calloc(nslots, sizeof *slots);
+    if (!slots) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    if (!rtsim_frame_init(&st.frame, job->mesh, job->view, job->width, job->height, job->diffuse, job->bounces,
+                          job->seed, false, &src, err, errlen))
+        goto done;
+    for (uint32_t i = 0; i < ntrv; i++)
+        if (make_cache(cfg, "node_l1", &st.l1[i], err, errlen))
+            goto done;
+    if (make_cache(cfg, "node_l2", &st.l2, err, errlen) || make_cache(cfg, "prim", &st.prim, err, errlen))
+        goto done;
+    {
+        char path[1024], why[400];
+        const char *file = rtcfg_str(cfg, "memory.dram_config");
+        snprintf(path, sizeof path, "%s%s%s", strchr(file, '/') ? "" : rtcfg_data_dir(), strchr(file, '/') ? "" : "/",
+                 file);
+        if (dram_spec_load(&st.spec, path, NULL, 0, why, sizeof why) || dram_addrmap_init(&st.map, &st.spec, why, sizeof why)) {
+            snprintf(err, errlen, "memory.dram_config = %s: %s", file, why);
+            goto done;
+        }
+        st.nbanks = (uint32_t)(st.spec.channels * st.spec.ranks * st.spec.banks);
+        st.open_row = malloc(st.nbanks * sizeof *st.open_row);
+        if (!st.open_row) {
+            snprintf(err, errlen, "out of memory");
+            goto done;
+        }
+        memset(st.open_row, 0xff, st.nbanks * sizeof *st.open_row);
+    }
+    uint64_t total = pixels ? npix : (uint64_t)job->width * job->height, next_primary = 0;
+    uint32_t busy = 0;
+    for (;;) {
+        /* refill: a finished slot takes its bounce or the next primary */
+        for (uint32_t k = 0; k < nslots; k++) {
+            fn_slot *s = &slots[k];
+            uint32_t trv = k % ntrv;   /* round-robin over the TRVs */
+            if (s->busy && s->next < s->n)
+                continue;
+            if (s->busy) {
+                s->busy = false;
+                busy--;
+                rt_ray nx;
+                if (job->diffuse && rt_bounce_ray(job->mesh, &s->ray, &s->hit, job->seed, job->bounces, &nx)) {
+                    s->ray = nx;
+                    out->bounces++;
+                    trace_slot(&st, s, trv);
+                    busy++;
+                    continue;
+                }
+            }
+            if (next_primary < total) {
+                uint64_t p = pixels ? pixels[next_primary] : next_primary;
+                next_primary++;
+                s->ray = rt_camera_primary_ray(&st.frame.cam, (uint32_t)(p % job->width), (uint32_t)(p / job->width));
+                out->primaries++;
+                trace_slot(&st, s, trv);
+                busy++;
+            }
+        }
+        if (st.oom) {
+            snprintf(err, errlen, "out of memory");
+            goto done;
+        }
+        if (!busy)
+            break;
+        /* one round: the next access of every busy slot */
+        for (uint32_t k = 0; k < nslots; k++) {
+            fn_slot *s = &slots[k];
+            if (s->busy && s->next < s->n)
+                do_access(&st, &s->acc[s->next++], k % ntrv);
+        }
+    }
+    for (uint32_t i = 0; i < ntrv; i++) {
+        cache_stats cs;
+        cache_get_stats(st.l1[i], &cs);
+        out->trv_l1_miss_lines[i] = cs.miss_lines;
+        out->l1.accesses += cs.accesses, out->l1.hits += cs.hits, out->l1.misses += cs.misses;
+        out->l1.miss_lines += cs.miss_lines, out->l1.fills += cs.fills;
+    }
+    cache_get_stats(st.l2, &out->l2);
+    cache_get_stats(st.prim, &out->prim);
+    throughput(job, out);
+    rc = 0;
+done:
+    for (uint32_t k = 0; k < nslots; k++)
+        free(slots[k].acc);
+    free(slots);
+    for (uint32_t i = 0; i < ntrv && i < FID_MAX_TRV; i++)
+        cache_destroy(st.l1[i]);
+    cache_destroy(st.l2);
+    cache_destroy(st.prim);
+    free(st.open_row);
+    rtsim_frame_free(&st.frame);
+    return rc;
+}

@@ -1,0 +1,60 @@
+/* functional.h — the functional level: every ray of a frame (or of a pixel
+ * subset) traced by the reference traversal (tracer/traverse.h), its node and
+ * triangle fetches sent through the model's cache core (model/mem/cache.h: node
+ * L1 per TRV, shared node L2, primitive cache) in a plausible order, and
+ * cycles from a throughput model (docs/fidelity.md "functional").
+ *
+ * Order: trv.count x trv.slots ray slots, TRVs round-robin like the
+ * scheduler; each round every busy slot makes its next memory access; a slot
+ * whose ray is done takes its bounce (diffuse) or the next primary. Misses
+ * are filled at once (no timing), so the counts are real and deterministic.
+ * DRAM row locality: the LPDDR3 address mapping of memory.dram_config, one
+ * open row per bank.
+ *
+ * Throughput model (per TRV and for the IST the issue cycles: a pass per
+ * visit, per return from the IST and per loop while a miss is outstanding;
+ * a test per triangle and per loop): cycles = the busiest of TRV issue, IST
+ * issue, DRAM transfer at memory.fixed_bandwidth_gbs, and the latency bound
+ * with all slots in flight (Little's law). The memory latency in the loops
+ * and the latency bound is the unloaded one plus an M/D/1 queueing term at
+ * the DRAM utilisation, solved by fixed-point iteration; plus the drain:
+ * the last paths finish one path latency after the bound. */
+#ifndef RTSIM_FIDELITY_FUNCTIONAL_H
+#define RTSIM_FIDELITY_FUNCTIONAL_H
+
+#include <stdint.h>
+
+#include "fidelity/fidelity.h"
+#include "model/mem/cache.h"
+
+#define FID_MAX_TRV 64
+
+typedef struct fid_func {
+    uint32_t ntrv;
+    uint64_t rays, primaries, bounces, failed;
+    uint64_t visits, box_tests, leaves, tri_tests, pushes, pops, culls;
+    uint64_t trv_visits[FID_MAX_TRV], trv_leaves[FID_MAX_TRV], trv_l1_miss_lines[FID_MAX_TRV];
+    cache_stats l1, l2, prim;     /* l1: summed over the TRVs */
+    uint64_t dram_bytes, dram_lines, row_hits;
+    /* throughput model */
+    double mem_latency;           /* cycles, request to data at the solved utilisation */
+    double dram_util;
+    double cyc_trv, cyc_ist, cyc_dram, cyc_lat, cyc_tail, cycles;
+    double cyc_bound;             /* the largest bound (cycles without the drain) */
+    const char *bound;            /* "trv", "ist", "dram", "latency" */
+    double runner_up;             /* second largest bound / largest (1 = tie) */
+    double mrps, clock_mhz;
+    double miss_scale;            /* multiplies every miss's wait (1 = the model as fitted) */
+} fid_func;
+
+/* pixels: the primary rays' pixel indices in admission order (NULL: every
+ * pixel in scanline order, npix ignored). Returns 0, or -1 with a message. */
+int fid_functional_run(const fid_job *job, const uint32_t *pixels, uint32_t npix, fid_func *out, char *err,
+                       size_t errlen);
+
+/* Recomputes the throughput model of f's counts with every miss's wait
+ * multiplied by miss_scale (sampled: fitted so that the functional cycles
+ * of a sample match the cycle model's). */
+void fid_functional_retime(const fid_job *job, fid_func *f, double miss_scale);
+
+#endif

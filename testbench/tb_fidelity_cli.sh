@@ -1,0 +1,139 @@
+#!/usr/bin/env bash
+# tb_fidelity_cli — rtsim's fidelity levels (docs/fidelity.md): every level
+# prints and writes its fidelity, error estimates and flag; full keeps its
+# figures; each shortcut is driven into the region where it fails and must
+# raise the flag (fixed-mem under saturated DRAM traffic, functional near a
+# TRV/IST tie, sampled at a rate too low for its bound); --accuracy says what
+# it picked; bad values exit 2; results repeat bit for bit.
+set -u
+bin=${RTSIM_BIN:?}/rtsim
+tmp=${RTSIM_TMP:-/tmp}/tb_fidelity_cli
+rm -rf "$tmp"; mkdir -p "$tmp"
+. "$(dirname "$0")/cli_lib.sh"
+cd "$(dirname "$0")/.."
+
+# field FILE KEY -> value of a top-level JSON member
+field() { python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))[sys.argv[2]])' "$1" "$2"; }
+
+# --- the fields, every level -------------------------------------------------
+for lv in full fixed-mem functional sampled; do
+  out=$("$bin" interior --res 32x18 --fidelity "$lv" --json "$tmp/$lv.json" 2>&1); rc=$?
+  if [ $rc -ne 0 ]; then fail "fidelity_${lv}_runs" "exit $rc: $(echo "$out" | tail -2 | tr '\n' ' ')"; continue; fi
+  if echo "$out" | grep -q "^fidelity    $lv; error estimate MRPS"; then pass "fidelity_${lv}_summary"
+  else fail "fidelity_${lv}_summary" "no 'fidelity    $lv' line"; fi
+  if python3 - "$tmp/$lv.json" "$lv" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["fidelity"] == sys.argv[2], d["fidelity"]
+assert d["unreliable"] in (0, 1)
+assert isinstance(d["unreliable_reason"], str)
+assert (d["unreliable"] == 1) == (d["unreliable_reason"] != ""), "reason iff flagged"
+for k in ("error_estimate.mrps", "error_estimate.dram_mb", "error_estimate.energy_mj"):
+    assert k in d and d["_units"][k] == "%", k
+    assert d[k] >= 0
+for k in ("cycles", "rays", "mrps", "dram_bytes", "energy_mj"):
+    assert d[k] > 0, k
+if sys.argv[2] == "full":
+    assert d["error_estimate.mrps"] == 0 and d["unreliable"] == 0
+else:
+    assert d["error_estimate.mrps"] > 0, "a cheaper level claims some error"
+PY
+  then pass "fidelity_${lv}_json"; else fail "fidelity_${lv}_json" "fields missing or wrong"; fi
+done
+
+# full: the figures of a run without --fidelity, bit for bit
+"$bin" interior --res 32x18 --json "$tmp/plain.json" >/dev/null 2>&1
+if python3 - "$tmp/plain.json" "$tmp/full.json" <<'PY'
+import json, sys
+a, b = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+a.pop("run"), b.pop("run")   # provenance: command line, times (docs/results.md)
+assert a == b, [k for k in a if a.get(k) != b.get(k)][:5]
+PY
+then pass fidelity_full_is_default; else fail fidelity_full_is_default "JSON differs"; fi
+
+# the same ray set: every level traces the frame's rays (sampled/functional count them functionally)
+for lv in functional sampled fixed-mem; do
+  a=$(field "$tmp/full.json" rays); b=$(field "$tmp/$lv.json" rays)
+  if [ "$a" = "$b" ]; then pass "fidelity_${lv}_same_rays"; else fail "fidelity_${lv}_same_rays" "$b rays vs $a"; fi
+done
+# DRAM bytes of the functional pass: real cache counts, within its own estimate
+if python3 - "$tmp/full.json" "$tmp/functional.json" <<'PY'
+import json, sys
+a, b = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+err = abs(b["dram_bytes"] / a["dram_bytes"] - 1) * 100
+assert err <= b["error_estimate.dram_mb"], (err, b["error_estimate.dram_mb"])
+PY
+then pass fidelity_functional_dram_within_estimate; else fail fidelity_functional_dram_within_estimate "outside"; fi
+
+# deterministic
+for lv in fixed-mem functional sampled; do
+  "$bin" interior --res 32x18 --fidelity "$lv" --json "$tmp/$lv.2.json" >/dev/null 2>&1
+  if same_results "$tmp/$lv.json" "$tmp/$lv.2.json"; then pass "fidelity_${lv}_deterministic"
+  else fail "fidelity_${lv}_deterministic" "two runs differ"; fi
+done
+
+# --- each shortcut where it fails: the flag ---------------------------------
+# fixed-mem under saturated DRAM traffic: diffuse hair with a 4 KB node L2
+# (every visit misses to DRAM); the furball stand-in when it is there.
+out=$("$bin" hairball --res 48x27 --rays diffuse --set node_l2.size=4K --fidelity fixed-mem --json "$tmp/sat.json" 2>&1)
+if [ "$(field "$tmp/sat.json" unreliable)" = 1 ] && echo "$out" | grep -q "^unreliable  fixed-mem: the pilot's DRAM utilisation"; then
+  pass fidelity_fixed_mem_saturation_flagged
+else fail fidelity_fixed_mem_saturation_flagged "not flagged: $(echo "$out" | grep -E '^(fidelity|DRAM)' | tr '\n' ' ')"; fi
+# and a light load is not flagged
+"$bin" interior --res 320x180 --fidelity fixed-mem --json "$tmp/light.json" >/dev/null 2>&1
+if [ "$(field "$tmp/light.json" unreliable)" = 0 ]; then pass fidelity_fixed_mem_light_not_flagged
+else fail fidelity_fixed_mem_light_not_flagged "$(field "$tmp/light.json" unreliable_reason)"; fi
+# The stand-in saturates the LPDDR3 below 60% of its peak (37% row hits):
+# the latency criterion must catch it.
+if [ -e ../shared/scenes/hairball-furball/furBall_A_tubes3.ply.gz ]; then
+  out=$("$bin" scenes/shared-hairball-real.scene --res 32x18 --rays diffuse --fidelity fixed-mem 2>&1)
+  if echo "$out" | grep -q "^unreliable  fixed-mem: the pilot's mean memory latency"; then pass fidelity_fixed_mem_furball_flagged
+  else fail fidelity_fixed_mem_furball_flagged "$(echo "$out" | grep -E '^(fidelity|method)' | tr '\n' ' ')"; fi
+else
+  echo "SKIP fidelity_fixed_mem_furball_flagged (needs ../shared/scenes/hairball-furball beside the repository)"
+fi
+
+# functional near a tie: interior primary, where the TRVs and the IST carry
+# nearly the same issue load (runner-up bound within 15% of the bound)
+out=$("$bin" interior --res 64x36 --fidelity functional --json "$tmp/tie.json" 2>&1)
+if python3 - "$tmp/tie.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+t, i = d["functional.cycles_trv"], d["functional.cycles_ist"]
+assert abs(t - i) / max(t, i) < 0.15, (t, i)     # the machine is near a tie
+assert d["functional.runner_up"] >= 0.85
+assert d["unreliable"] == 1 and "tie" in d["unreliable_reason"], d["unreliable_reason"]
+PY
+then pass fidelity_functional_tie_flagged; else fail fidelity_functional_tie_flagged "$(echo "$out" | grep -E '^(bounds|fidelity|unrel)' | tr '\n' ' ')"; fi
+# a clear bottleneck (hair: IST-bound by far) is not flagged for a tie
+"$bin" hairball --res 96x54 --fidelity functional --json "$tmp/clear.json" >/dev/null 2>&1
+if [ "$(field "$tmp/clear.json" unreliable)" = 0 ]; then pass fidelity_functional_clear_bound_not_flagged
+else fail fidelity_functional_clear_bound_not_flagged "$(field "$tmp/clear.json" unreliable_reason)"; fi
+
+# sampled at a rate too low for the bound
+out=$("$bin" interior --res 64x36 --fidelity sampled --sample-rate 0.01 --json "$tmp/low.json" 2>&1)
+if [ "$(field "$tmp/low.json" unreliable)" = 1 ] && echo "$out" | grep -q "^unreliable  sampled at 1.00% of the pixels"; then
+  pass fidelity_sampled_low_rate_flagged
+else fail fidelity_sampled_low_rate_flagged "$(echo "$out" | grep -E '^(fidelity|unrel)' | tr '\n' ' ')"; fi
+
+# --- --accuracy ------------------------------------------------------------
+out=$("$bin" interior --res 32x18 --accuracy 0.01% --json "$tmp/acc.json" 2>&1)
+if echo "$out" | grep -q "^accuracy    --accuracy 0.01%: fell back to full" && [ "$(field "$tmp/acc.json" fidelity)" = full ] &&
+   cmp -s <(python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print(d["mrps"], d["dram_bytes"])' "$tmp/acc.json") \
+          <(python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print(d["mrps"], d["dram_bytes"])' "$tmp/full.json"); then
+  pass fidelity_accuracy_falls_back_to_full
+else fail fidelity_accuracy_falls_back_to_full "$(echo "$out" | grep -E '^(fidelity|accuracy)' | tr '\n' ' ')"; fi
+out=$("$bin" hairball --res 96x54 --accuracy 40% --json "$tmp/acc2.json" 2>&1)
+if echo "$out" | grep -q "^accuracy    --accuracy 40%: picked functional" && [ "$(field "$tmp/acc2.json" fidelity)" = functional ]; then
+  pass fidelity_accuracy_picks_cheap_level
+else fail fidelity_accuracy_picks_cheap_level "$(echo "$out" | grep -E '^(fidelity|accuracy)' | tr '\n' ' ')"; fi
+if [ -n "$(field "$tmp/acc2.json" fidelity_choice)" ]; then pass fidelity_accuracy_choice_in_json
+else fail fidelity_accuracy_choice_in_json "empty fidelity_choice"; fi
+
+# --- bad usage ---------------------------------------------------------------
+expect fidelity_bad_level 2 "--fidelity fast: allowed values are full, fixed-mem, functional, sampled" -- "$bin" --fidelity fast
+expect fidelity_bad_accuracy 2 "--accuracy 0%: expected a percentage in (0, 100]" -- "$bin" --accuracy 0%
+expect fidelity_bad_accuracy_text 2 "--accuracy two" -- "$bin" --accuracy two
+expect fidelity_bad_sample_rate 2 "--sample-rate 2: allowed range 0 < R <= 1" -- "$bin" --sample-rate 2
+expect fidelity_vcd_needs_full 2 "need --fidelity full (functional asked)" -- "$bin" --fidelity functional --vcd "$tmp/x.vcd"
+if [ ! -e "$tmp/x.vcd" ]; then pass fidelity_vcd_refused_writes_nothing; else fail fidelity_vcd_refused_writes_nothing "file written"; fi

@@ -11,18 +11,8 @@
 # Writes BUILD_DIR/bench/accel.csv and prints a table.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build=${1:-build}
-runs=${RUNS:-5}
-bin=$build/bin/rtsim
-[ -x "$bin" ] || make -s BUILD="$build" "$bin" >&2
-out=$build/bench
-mkdir -p "$out"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-csv=$out/accel.csv.tmp
-echo "benchmark,ours_median_s,reference_median_s,ratio" >"$csv"
-
-median() { sort -g | awk '{ v[NR] = $1 } END { if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+. bench/common.bash
+bench_setup accel 5 "${1:-build}"
 
 # run NAME ARGS... -> sets med (s), cycles, rays
 run() {

@@ -9,18 +9,8 @@
 # speedup (reference / ours); the printed table adds the MRPS error and flag.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-build=${1:-build}
-runs=${RUNS:-3}
-bin=$build/bin/rtsim
-[ -x "$bin" ] || make -s BUILD="$build" "$bin" >&2
-out=$build/bench
-mkdir -p "$out"
-tmp=$(mktemp -d)
-trap 'rm -rf "$tmp"' EXIT
-csv=$out/fidelity.csv.tmp
-echo "benchmark,ours_median_s,reference_median_s,ratio" >"$csv"
-
-median() { sort -g | awk '{ v[NR] = $1 } END { if (NR % 2) print v[(NR + 1) / 2]; else print (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
+. bench/common.bash
+bench_setup fidelity 3 "${1:-build}"
 
 # run ARGS... -> med (host CPU s), mrps, flag (of the last run)
 run() {

@@ -180,11 +180,7 @@ typedef struct model_fig {
     double mem_latency, dram_gbs, row_hit, mem_requests;
 } model_fig;
 
-static double stat(ks_stats *st, const char *name)
-{
-    double v = 0;
-    return ks_stats_value(st, name, &v) == 0 ? v : 0.0;
-}
+static double stat(ks_stats *st, const char *name) { return ks_stats_value_or(st, name, 0.0); }
 
 static void get_fig(accel_top *t, model_fig *f)
 {

@@ -449,6 +449,12 @@ static double value_of(const ks_stats *reg, const stat_entry *e, int depth)
     return NAN;
 }
 
+double ks_stats_value_or(const ks_stats *reg, const char *name, double fallback)
+{
+    double v;
+    return ks_stats_value(reg, name, &v) == 0 ? v : fallback;
+}
+
 int ks_stats_value(const ks_stats *reg, const char *name, double *out)
 {
     const stat_entry *e = find(reg, name);

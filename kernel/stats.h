@@ -88,6 +88,8 @@ bool ks_stats_registered_from(const ks_stats *reg, const ks_module_desc *m, cons
 
 /* Value of a statistic by name (histograms: their mean); 0 when found. */
 int ks_stats_value(const ks_stats *reg, const char *name, double *out);
+/* The same, or `fallback` when no statistic has that name. */
+double ks_stats_value_or(const ks_stats *reg, const char *name, double fallback);
 unsigned ks_stats_count(const ks_stats *reg);
 
 /* 0 on success, -1 on a write error. */

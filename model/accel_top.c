@@ -225,11 +225,7 @@ static energy_model *build_energy_model(accel_top *t, const rtcfg *cfg, char *er
     return em;
 }
 
-static double stat_or_zero(const ks_stats *st, const char *name)
-{
-    double v = 0;
-    return ks_stats_value(st, name, &v) == 0 ? v : 0.0;
-}
+static double stat_or_zero(const ks_stats *st, const char *name) { return ks_stats_value_or(st, name, 0.0); }
 
 /* Activity of the run from the statistics registry and the FIFOs' counters. */
 static void compute_energy(accel_top *t)
@@ -240,6 +236,10 @@ static void compute_energy(accel_top *t)
     char k[96];
     a.seconds = t->seconds;
     double comparators = sort_net_get(t->p.width)->ncmps;
+    static const char *const ray_keys[4] = {"fifo.ray_new", "fifo.ray_leaf", "fifo.ray_return", "fifo.ray_done"};
+    int ray_fifo[4], loop_fifo = energy_fifo_index(&em->m, "fifo.ray_trv_loop");
+    for (int j = 0; j < 4; j++)
+        ray_fifo[j] = energy_fifo_index(&em->m, ray_keys[j]);
     for (uint32_t i = 0; i < t->p.trv_count; i++) {
         /* slab tests of all lanes, and one FLOP per comparator of each sort */
         snprintf(k, sizeof k, "%s.flops", t->names[i]);
@@ -255,16 +255,14 @@ static void compute_energy(accel_top *t)
         snprintf(k, sizeof k, "node_l1_%u.fills", i);
         a.cache_writes[0] += stat_or_zero(t->stats, k);
         /* the loop ring of a TRV: every ray issued from it was written to it */
-        int f = energy_fifo_index(&em->m, "fifo.ray_trv_loop");
         snprintf(k, sizeof k, "%s.issue_loop", t->names[i]);
-        a.fifo_reads[f] += stat_or_zero(t->stats, k);
-        a.fifo_writes[f] += stat_or_zero(t->stats, k);
+        double loops = stat_or_zero(t->stats, k);
+        a.fifo_reads[loop_fifo] += loops;
+        a.fifo_writes[loop_fifo] += loops;
         ks_fifo *ray_fifos[4] = {t->f_new[i], t->f_leaf[i], t->f_ret[i], t->f_done[i]};
-        static const char *const ray_keys[4] = {"fifo.ray_new", "fifo.ray_leaf", "fifo.ray_return", "fifo.ray_done"};
         for (int j = 0; j < 4; j++) {
-            f = energy_fifo_index(&em->m, ray_keys[j]);
-            a.fifo_reads[f] += (double)ks_fifo_total_reads(ray_fifos[j]);
-            a.fifo_writes[f] += (double)ks_fifo_total_writes(ray_fifos[j]);
+            a.fifo_reads[ray_fifo[j]] += (double)ks_fifo_total_reads(ray_fifos[j]);
+            a.fifo_writes[ray_fifo[j]] += (double)ks_fifo_total_writes(ray_fifos[j]);
         }
     }
     int f = energy_fifo_index(&em->m, "fifo.ray_ist_loop");

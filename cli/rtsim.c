@@ -122,25 +122,25 @@ static int help_module(const char *name)
         ks_module_desc_print(d, stdout);
         found = 1;
     }
-    /* the defaults and ranges of a module's keys are the schema's (written
-     * once, in model/accel_config.c and model/mem/memsys_config.c); the module
-     * table only names them */
-    static const char *const module_sections[][4] = {
-        {"cache", "node_l1", "node_l2", "prim"}, {"fixed_mem", "memory", NULL, NULL}};
-    for (int i = 0; i < rtcfg_schema_count(cfg); i++) {
+    /* a module's parameters are the keys of the configuration sections its
+     * description names: their schemas (in the unit's own file) are the only
+     * place a key's type, default, range, unit and source are written */
+    for (int i = 0; d && d->config_sections && i < rtcfg_schema_count(cfg); i++) {
         const rtcfg_schema *s = rtcfg_schema_at(cfg, i);
-        bool match = !strcmp(s->section, name);
-        for (size_t m = 0; m < sizeof module_sections / sizeof module_sections[0]; m++)
-            for (int k = 1; k < 4 && !strcmp(module_sections[m][0], name); k++)
-                match |= module_sections[m][k] && !strcmp(module_sections[m][k], s->section);
-        if (match) {
-            if (found)
-                printf("\n");
-            printf("Configuration keys [%s]:\n", s->section);
-            rtcfg_print_schema(stdout, s, NULL);
+        size_t n = strlen(s->section);
+        for (const char *c = d->config_sections; c; c = strchr(c, ',') ? strchr(c, ',') + 1 : NULL)
+            if (!strncmp(c, s->section, n) && (c[n] == ',' || c[n] == 0)) {
+                printf("\nConfiguration keys [%s]:\n", s->section);
+                rtcfg_print_schema(stdout, s, NULL);
+            }
+    }
+    /* a configuration section asked for by its own name ("machine", "fifo") */
+    for (int i = 0; !d && i < rtcfg_schema_count(cfg); i++)
+        if (!strcmp(rtcfg_schema_at(cfg, i)->section, name)) {
+            printf("%sConfiguration keys [%s]:\n", found ? "\n" : "", name);
+            rtcfg_print_schema(stdout, rtcfg_schema_at(cfg, i), NULL);
             found = 1;
         }
-    }
     rtcfg_destroy(cfg);
     if (!found) {
         fprintf(stderr, "rtsim: --help-module %s: no such module; modules: ", name);

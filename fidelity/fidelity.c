@@ -70,7 +70,7 @@ static const ks_desc_item fid_items[] = {
      "estimated relative error of energy_mj against the full model"},
     {KS_DESC_END, 0, 0, 0, 0, 0}};
 const ks_module_desc fid_module_desc = {"fidelity", "fidelity of a run's figures and their error estimates",
-                                        fid_items};
+                                        fid_items, NULL};
 
 int fid_register_stats(fid_result *r, ks_stats *st)
 {

@@ -13,7 +13,7 @@ static const ks_desc_item fifo_items[] = {
      "a 1R1W RAM of capacity x record width; writes and reads each access it once"},
     {KS_DESC_END, 0, 0, 0, 0, 0}};
 const ks_module_desc ks_fifo_module_desc = {"fifo", "timed FIFO channel between units: bounded, with a latency",
-                                            fifo_items};
+                                            fifo_items, "fifo"};
 
 /* A method starts waiting on a FIFO event: notify it as the channel's state
  * says (an item readable from now: next delta; the first item not ready

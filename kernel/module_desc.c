@@ -59,6 +59,12 @@ void ks_module_desc_print(const ks_module_desc *m, FILE *o)
 {
     fprintf(o, "%s — %s\n", nz(m->name), nz(m->summary));
     section(m, KS_DESC_PARAM, "Parameters (--set <module>.<name>=VALUE)", o);
+    if (m->config_sections && *m->config_sections) {
+        fprintf(o, "  Parameters: the configuration keys of [");
+        for (const char *c = m->config_sections; *c; c++)
+            fputs(*c == ',' ? "], [" : (char[]){*c, 0}, o);
+        fprintf(o, "] (below; --set SECTION.KEY=VALUE)\n");
+    }
     section(m, KS_DESC_PORT, "Ports", o);
     section(m, KS_DESC_STAT, "Statistics (name, unit, meaning)", o);
     section(m, KS_DESC_PART, "Energy and area parts (name, class, size and activity)", o);

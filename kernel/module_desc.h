@@ -3,7 +3,11 @@
  * Contract: each module (a model/ source file) declares its parameters, ports and
  * statistics in one static table of ks_desc_item, terminated by an item
  * with kind KS_DESC_END, wrapped in a ks_module_desc with the module's name
- * and a one-line summary. From it, ks_module_desc_print writes --help-module
+ * and a one-line summary. A module whose parameters are configuration keys
+ * does not list them as KS_DESC_PARAM rows: it names the configuration
+ * sections that hold them (config_sections), whose schema is then the only
+ * place a key's type, default, range, unit and source are written; the
+ * kernel treats that field as text. From it, ks_module_desc_print writes --help-module
  * documentation; ks_module_desc_check validates a table (unique names, every
  * field filled where its kind needs it) so a unit test can keep tables honest.
  *
@@ -13,7 +17,7 @@
  *     {KS_DESC_STAT,  "node_visits", "visits", "", "", "nodes visited"},
  *     {KS_DESC_PART,  "fpu", "FPU", "", "", "slab tests: FLOPs per cycle; energy per FLOP"},
  *     {KS_DESC_END, 0, 0, 0, 0, 0}};
- *   const ks_module_desc trv_desc = {"trv", "BVH traversal unit", trv_items};
+ *   const ks_module_desc trv_desc = {"trv", "BVH traversal unit", trv_items, NULL};
  */
 #ifndef KS_MODULE_DESC_H
 #define KS_MODULE_DESC_H
@@ -44,10 +48,14 @@ typedef struct ks_module_desc {
     const char *name;
     const char *summary;
     const ks_desc_item *items; /* terminated by KS_DESC_END */
+    /* comma-separated configuration sections holding the module's
+     * parameters ("trv"; "node_l1,node_l2,prim" for the caches), or NULL */
+    const char *config_sections;
 } ks_module_desc;
 
 /* Prints the documentation (sections Parameters, Ports, Statistics, Energy
- * and area parts). */
+ * and area parts); for config_sections, a line pointing at those sections,
+ * whose keys the caller prints from their schemas. */
 void ks_module_desc_print(const ks_module_desc *m, FILE *out);
 /* Item of the given kind and name, or NULL. */
 const ks_desc_item *ks_module_desc_find(const ks_module_desc *m, ks_desc_kind kind,

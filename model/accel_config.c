@@ -10,40 +10,6 @@
 #include "model/ray/sort_net.h"
 #include "tracer/bvh_layout.h"
 
-static const rtcfg_param trv_params_tab[] = {
-    {"count", RTCFG_INT, "4", 1, 64, 0, NULL, "units", "TRV units per IST (paper sec. 3: 4)"},
-    {"slots", RTCFG_INT, "32", 1, 1024, 0, NULL, "rays", "ray slots = stacks per TRV (paper sec. 3: 32)"},
-    {"stack_depth", RTCFG_INT, "64", 1, 4096, 0, NULL, "entries", "entries per ray stack (paper sec. 3: 64)"},
-    {"stack_banks", RTCFG_INT, "0", 0, 64, 0, NULL, "banks",
-     "stack memory banks; 0 = N for N > 2 (N-1 pushes plus the pop, paper sec. 3.1), 1 for BVH2"},
-    {"distance_stack", RTCFG_ENUM, "auto", 0, 0, 0, "auto|on|off", "",
-     "distance stack culling; auto = on for N > 2 only (paper sec. 3.1)"},
-    {"stages_box", RTCFG_INT, "3", 1, 32, 0, NULL, "stages", "slab test stages: sub, mul, min/max compare (ours)"},
-    {"stages_stack", RTCFG_INT, "1", 1, 8, 0, NULL, "stages", "stack access stages (ours)"},
-    {"stages_next", RTCFG_INT, "1", 1, 8, 0, NULL, "stages", "next-state stages (ours)"},
-    {"box_flops", RTCFG_INT, "12", 1, 64, 0, NULL, "FLOP", "FLOPs per slab test lane: 6 sub + 6 mul (bvh_layout.h)"},
-};
-const rtcfg_schema accel_schema_trv = {"trv", "traversal units (sort stages = sorting network depth, sort_net.h)",
-                                       trv_params_tab, 9, NULL};
-
-static const rtcfg_param ist_params_tab[] = {
-    {"latency", RTCFG_INT, "16", 1, 256, 0, NULL, "cycles",
-     "Wald test pipeline depth after the primitive cache access (ours)"},
-    {"flops_per_test", RTCFG_INT, "39", 1, 256, 0, NULL, "FLOP",
-     "FLOPs per Wald test, division = 11 (paper sec. 3.2): 28 + 11"},
-};
-const rtcfg_schema accel_schema_ist = {"ist", "intersection unit", ist_params_tab, 2, NULL};
-
-static const rtcfg_param sched_params_tab[] = {
-    {"admit_per_cycle", RTCFG_INT, "1", 1, 64, 0, NULL, "rays/cycle", "rays the scheduler admits per cycle (ours)"},
-    {"shade_latency", RTCFG_INT, "0", 0, 1000000, 0, NULL, "cycles",
-     "completion to bounce-ray ready: shading outside the accelerator (ours)"},
-    {"watchdog_cycles", RTCFG_INT, "2000000", 0, 1e12, 0, NULL, "cycles",
-     "stop with a report when no work is done (no node visit, triangle test or completed ray) for this long "
-     "plus the machine's longest wait (docs/accel.md); 0 = off"},
-};
-const rtcfg_schema accel_schema_sched = {"sched", "ray scheduler", sched_params_tab, 3, NULL};
-
 #define FIFO_PARAM(name, desc) {name, RTCFG_INT, "32", 1, 65536, 0, NULL, "entries", desc}
 static const rtcfg_param fifo_params_tab[] = {
     FIFO_PARAM("ray_new", "scheduler -> TRV new rays (per TRV; paper sec. 3: 32)"),
@@ -65,7 +31,7 @@ const char *accel_fifo_key(unsigned i) { return i < 6 ? fifo_keys[i] : NULL; }
 
 int accel_add_schemas(rtcfg *cfg, char *err, size_t errlen)
 {
-    const rtcfg_schema *all[] = {&accel_schema_trv, &accel_schema_ist, &accel_schema_sched, &accel_schema_fifo,
+    const rtcfg_schema *all[] = {&trv_schema, &ist_schema, &sched_schema, &accel_schema_fifo,
                                  &energy_schema};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         if (rtcfg_add_schema(cfg, all[i], err, errlen))

@@ -26,7 +26,7 @@ typedef struct accel_params {
     uint32_t fifo_new, fifo_leaf, fifo_return, fifo_done, fifo_trv_loop, fifo_ist_loop, fifo_latency;
 } accel_params;
 
-extern const rtcfg_schema accel_schema_trv, accel_schema_ist, accel_schema_sched, accel_schema_fifo;
+extern const rtcfg_schema accel_schema_fifo;
 
 /* Registers the schemas above. */
 int accel_add_schemas(rtcfg *cfg, char *err, size_t errlen);

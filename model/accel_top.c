@@ -94,7 +94,7 @@ static const ks_desc_item accel_items[] = {
     {KS_DESC_STAT, "rays_in_flight_mean", "rays", "", "", "time-averaged rays in flight"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
-const ks_module_desc accel_top_desc = {"accel", "the frame's figures (top level)", accel_items};
+const ks_module_desc accel_top_desc = {"accel", "the frame's figures (top level)", accel_items, "machine"};
 
 static double fifo_writes_fn(const ks_stats *reg, void *user)
 {

@@ -352,8 +352,11 @@ static void test_build_errors_and_tables(void)
              "module lookup by name and instance");
     for (int i = 0; i < 5; i++) {
         TB_CHECK(ks_module_desc_check(d[i], err, sizeof err) == 0, "%s", err);
-        TB_CHECK(ks_module_desc_count(d[i], KS_DESC_PARAM) > 0 && ks_module_desc_count(d[i], KS_DESC_PORT) > 0 &&
-                     ks_module_desc_count(d[i], KS_DESC_STAT) > 0,
+        /* parameters: configuration keys (the arbiter's requester count is
+         * set by the assembly, so it is a row of its own) */
+        TB_CHECK((d[i] == &mem_arbiter_desc ? ks_module_desc_count(d[i], KS_DESC_PARAM) > 0
+                                            : d[i]->config_sections && ks_module_desc_count(d[i], KS_DESC_PARAM) == 0) &&
+                     ks_module_desc_count(d[i], KS_DESC_PORT) > 0 && ks_module_desc_count(d[i], KS_DESC_STAT) > 0,
                  "%s lacks a section", d[i]->name);
     }
     /* every statistic the cache registers is documented */

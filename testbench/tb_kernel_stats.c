@@ -132,7 +132,7 @@ static const ks_desc_item trv_items[] = {
     {KS_DESC_PORT, "node_req", "out fifo<node_req>", "", "", "requests to the node L1"},
     {KS_DESC_STAT, "node_visits", "visits", "", "", "nodes visited"},
     {KS_DESC_END, 0, 0, 0, 0, 0}};
-static const ks_module_desc trv_desc = {"trv", "BVH traversal unit", trv_items};
+static const ks_module_desc trv_desc = {"trv", "BVH traversal unit", trv_items, NULL};
 
 static const ks_desc_item bad_items[] = {
     {KS_DESC_PARAM, "a", "int", "1", "", "first"},
@@ -164,10 +164,10 @@ static void test_module_desc(void)
     TB_CHECK(strstr(buf, "  Statistics (name, unit, meaning):\n    node_visits  visits  nodes visited\n"),
              "stats:\n%s", buf);
     free(buf);
-    ks_module_desc bad = {"bad", "broken", bad_items};
+    ks_module_desc bad = {"bad", "broken", bad_items, NULL};
     TB_EQ_INT(ks_module_desc_check(&bad, err, sizeof err), -1);
     TB_CHECK(strstr(err, "bad: a declared twice"), "err: %s", err);
-    ks_module_desc nodef = {"nd", "broken", nodef_items};
+    ks_module_desc nodef = {"nd", "broken", nodef_items, NULL};
     TB_EQ_INT(ks_module_desc_check(&nodef, err, sizeof err), -1);
     TB_CHECK(strstr(err, "parameter b has no default"), "err: %s", err);
     tb_end();
@@ -184,7 +184,7 @@ static void test_declared(void)
         {KS_DESC_STAT, "energy.*_mj", "mJ", "", "", "energy of the *"},
         {KS_DESC_STAT, "never", "things", "", "", "declared, never registered"},
         {KS_DESC_END, 0, 0, 0, 0, 0}};
-    static const ks_module_desc m = {"unit", "a test unit", items};
+    static const ks_module_desc m = {"unit", "a test unit", items, NULL};
     tb_begin("stats_declared_registration");
     ks_stats *r = ks_stats_create();
     uint64_t h = 3, g = 4;

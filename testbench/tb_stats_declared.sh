@@ -82,3 +82,31 @@ PY
 rc=$?
 check stats_declared_equal_registered test $rc -eq 0
 check stats_declared_modules_have_tables sh -c "for m in $modules; do grep -q 'Statistics' '$tmp/help-'\$m.txt || exit 1; done"
+
+# Parameters are written once, in the schema of a configuration section
+# (docs/design.md, "Adding a unit"): a module's --help-module names its
+# sections and prints their keys from the schema, and no module repeats a
+# configuration key in a table of its own.
+python3 - "$tmp" $modules <<'PY'
+import re, sys
+tmp, modules = sys.argv[1], sys.argv[2:]
+bad, keys, own = [], set(), {}
+for m in modules:
+    text = open("%s/help-%s.txt" % (tmp, m)).read()
+    shown = set(re.findall(r"^Configuration keys \[(\w+)\]:", text, re.M))
+    keys |= set(re.findall(r"^  (\w+\.\w+(?:\.\w+)?)\s", text, re.M))
+    named = re.search(r"^  Parameters: the configuration keys of (.*) \(below", text, re.M)
+    for sec in re.findall(r"\[(\w+)\]", named.group(1)) if named else []:
+        if sec not in shown:
+            bad.append("%s names [%s] but does not print its keys" % (m, sec))
+    block = re.search(r"^  Parameters \(--set[^\n]*\n((?:    [^\n]*\n)*)", text, re.M)
+    own[m] = re.findall(r"^    (\S+)", block.group(1), re.M) if block else []
+for m in modules:
+    for name in own[m]:
+        if name in keys:
+            bad.append("%s: parameter %s repeats a configuration key" % (m, name))
+for b in bad[:20]:
+    print("  " + b)
+sys.exit(1 if bad else 0)
+PY
+check params_written_once_in_schemas test $? -eq 0

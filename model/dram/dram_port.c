@@ -325,19 +325,6 @@ static double port_stat(const ks_stats *reg, void *user)
 
 /* Statistic table: name, unit, description (also in dram_port_desc). */
 static const ks_desc_item port_items[] = {
-    {KS_DESC_PARAM, "spec", "file", "model/data/lpddr3_1600.ini", "a dram_timing.h parameter file",
-     "speed grade: organization, timing constraints, controller policy and mapping; its keys below are set as "
-     "<module>.<section>.<key> (dram_spec_load overrides \"section.key=value\")"},
-    {KS_DESC_PARAM, "organization.tck_ps", "int", "1250", "100..100000", "DRAM clock period in ps (800 MHz)"},
-    {KS_DESC_PARAM, "organization.channels", "int", "2", "1..16, power of two", "32-bit channels"},
-    {KS_DESC_PARAM, "timing.nCL", "int", "12", "expression", "CAS latency; every [timing] name of the file likewise"},
-    {KS_DESC_PARAM, "controller.read_queue", "int", "32", "1..4096", "read queue entries per channel"},
-    {KS_DESC_PARAM, "controller.write_queue", "int", "32", "1..4096", "write queue entries per channel"},
-    {KS_DESC_PARAM, "controller.row_hit_cap", "int", "16", "0..1000000", "FR-FCFS row-hit cap"},
-    {KS_DESC_PARAM, "controller.mapping", "enum", "RoBaRaCoCh", "permutation of Ro Ba Ra Co Ch",
-     "address mapping, most significant field first"},
-    {KS_DESC_PARAM, "power", "file", "model/data/lpddr3_1600_idd.ini", "optional",
-     "currents and voltages for the energy statistic"},
     {KS_DESC_PORT, "req", "in fifo<dram_port_req>", "", "", "requests (address, size, read/write, tag)"},
     {KS_DESC_PORT, "resp", "out fifo<dram_port_resp>", "", "", "one response per request when its last burst is done"},
     {KS_DESC_STAT, "requests", "requests", "", "", "requests accepted"},
@@ -367,7 +354,7 @@ static const ks_desc_item port_items[] = {
     {KS_DESC_END, 0, 0, 0, 0, 0}};
 
 const ks_module_desc dram_port_desc = {"dram", "LPDDR3 memory: command-level controller behind timed FIFOs",
-                                       port_items};
+                                       port_items, "dram"};
 
 
 static int reg_counter(dram_port *p, ks_stats *st, const char *name, const uint64_t *v)

@@ -232,7 +232,7 @@ static const ks_desc_item energy_items[] = {
     {KS_DESC_STAT, "area.*_mm2", "mm2", "", "", "area of the * unit(s): FPUs and memory blocks"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
-const ks_module_desc energy_desc = {"energy", "energy, power and area from activity (docs/energy.md)", energy_items};
+const ks_module_desc energy_desc = {"energy", "energy, power and area from activity (docs/energy.md)", energy_items, "energy"};
 
 int energy_register_stats(energy_model *em, ks_stats *st, char *err, size_t errlen)
 {

@@ -6,14 +6,6 @@
 #include <string.h>
 
 static const ks_desc_item cache_unit_items[] = {
-    {KS_DESC_PARAM, "size", "int", "in [node_l1], [node_l2], [prim] below", "", "capacity in bytes ([node_l1], [node_l2], [prim])"},
-    {KS_DESC_PARAM, "line", "int", "in [node_l1], [node_l2], [prim] below", "", "line size in bytes (node caches: node size)"},
-    {KS_DESC_PARAM, "ways", "int", "in [node_l1], [node_l2], [prim] below", "", "associativity, true LRU (paper sec. 3: 4-way)"},
-    {KS_DESC_PARAM, "banks", "int", "in [node_l1], [node_l2], [prim] below", "", "banks interleaved by line (prim: 2, paper sec. 3)"},
-    {KS_DESC_PARAM, "ports", "int", "in [node_l1], [node_l2], [prim] below", "", "accesses per cycle; line reads per bank per cycle"},
-    {KS_DESC_PARAM, "mshrs", "int", "in [node_l1], [node_l2], [prim] below", "", "miss status holding registers (outstanding lines)"},
-    {KS_DESC_PARAM, "mshr_merge", "int", "in [node_l1], [node_l2], [prim] below", "", "requests that may wait on one MSHR (req_in only)"},
-    {KS_DESC_PARAM, "hit_latency", "int", "in [node_l1], [node_l2], [prim] below", "", "cycles from access (or fill) to the response"},
     {KS_DESC_PORT, "probe", "direct call", "", "", "cache_access(core, addr, bytes, cycle) from the TRV/IST"},
     {KS_DESC_PORT, "req_in", "in fifo<mem_req>", "", "", "requests from the upper level (through an arbiter)"},
     {KS_DESC_PORT, "resp_out", "out fifo<mem_resp>", "", "", "responses to req_in requests"},
@@ -39,7 +31,7 @@ static const ks_desc_item cache_unit_items[] = {
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
 const ks_module_desc cache_unit_desc = {
-    "cache", "non-blocking set-associative cache (node L1, node L2, primitive cache)", cache_unit_items};
+    "cache", "non-blocking set-associative cache (node L1, node L2, primitive cache)", cache_unit_items, "node_l1,node_l2,prim"};
 
 typedef struct pending_resp {
     uint64_t ready;       /* cycle it may leave */

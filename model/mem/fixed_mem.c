@@ -7,10 +7,6 @@
 #include <string.h>
 
 static const ks_desc_item items[] = {
-    {KS_DESC_PARAM, "memory.fixed_latency", "int", "in [memory] below", "",
-     "cycles from the end of the transfer to the response (ours: ~100 ns)"},
-    {KS_DESC_PARAM, "memory.fixed_bandwidth_gbs", "double", "in [memory] below", "",
-     "peak data rate, 0 = unlimited (paper sec. 3.2: 12.8 GB/s)"},
     {KS_DESC_PORT, "req_in", "in fifo<mem_req>", "", "", "line requests"},
     {KS_DESC_PORT, "resp_out", "out fifo<mem_resp>", "", "", "responses in request order"},
     {KS_DESC_STAT, "requests", "requests", "", "", "requests served"},
@@ -20,7 +16,7 @@ static const ks_desc_item items[] = {
     {KS_DESC_PART, "dram", "DRAM", "", "", "off chip, no area; bytes x energy.fixed_mem_pj_per_byte"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
-const ks_module_desc fixed_mem_desc = {"fixed_mem", "fixed-latency main memory with a bandwidth limit", items};
+const ks_module_desc fixed_mem_desc = {"fixed_mem", "fixed-latency main memory with a bandwidth limit", items, "memory"};
 
 #define FRAC 65536u
 

@@ -18,7 +18,7 @@ static const ks_desc_item items[] = {
     {KS_DESC_STAT, "responses", "responses", "", "", "responses routed back"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
-const ks_module_desc mem_arbiter_desc = {"arbiter", "round-robin arbiter of memory requests", items};
+const ks_module_desc mem_arbiter_desc = {"arbiter", "round-robin arbiter of memory requests", items, NULL};
 
 struct mem_arbiter {
     char *name;

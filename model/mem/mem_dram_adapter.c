@@ -8,9 +8,6 @@
 #include "model/dram/dram_port.h"
 
 static const ks_desc_item items[] = {
-    {KS_DESC_PARAM, "memory.dram_config", "string", "lpddr3_1600.ini", "file", "LPDDR3 spec (relative: model/data)"},
-    {KS_DESC_PARAM, "memory.dram_power", "string", "lpddr3_1600_idd.ini", "file or empty",
-     "currents for DRAM energy (empty: no energy)"},
     {KS_DESC_PORT, "mem_in", "in fifo<mem_req>", "", "", "line requests from the memory arbiter"},
     {KS_DESC_PORT, "mem_out", "out fifo<mem_resp>", "", "", "responses to the memory arbiter"},
     {KS_DESC_PORT, "dram_req", "out fifo<dram_port_req>", "", "", "requests to the LPDDR3 port"},
@@ -20,7 +17,7 @@ static const ks_desc_item items[] = {
     {KS_DESC_STAT, "latency_sum", "cycles", "", "", "sum of forward-to-response accelerator cycles"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
-const ks_module_desc mem_dram_adapter_desc = {"dram_adapter", "memory-side front end of the LPDDR3 port", items};
+const ks_module_desc mem_dram_adapter_desc = {"dram_adapter", "memory-side front end of the LPDDR3 port", items, "memory"};
 
 typedef struct slot {
     uint16_t src;

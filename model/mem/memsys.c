@@ -50,7 +50,7 @@ static const ks_desc_item totals_items[] = {
     {KS_DESC_STAT, "memory.bytes_total", "bytes", "", "", "bytes moved to/from main memory"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
-const ks_module_desc memsys_totals_desc = {"memory_side", "totals of the memory hierarchy", totals_items};
+const ks_module_desc memsys_totals_desc = {"memory_side", "totals of the memory hierarchy", totals_items, NULL};
 
 static double l1_hit_rate(const ks_stats *reg, void *user)
 {

@@ -4,11 +4,18 @@
 #include <stdio.h>
 #include <string.h>
 
+/* The unit's parameters: the keys of its configuration section, written
+ * only here (type, default, range, unit, source); --help-module prints
+ * them after the table below, which names the section. */
+static const rtcfg_param ist_params_tab[] = {
+    {"latency", RTCFG_INT, "16", 1, 256, 0, NULL, "cycles",
+     "Wald test pipeline depth after the primitive cache access (ours)"},
+    {"flops_per_test", RTCFG_INT, "39", 1, 256, 0, NULL, "FLOP",
+     "FLOPs per Wald test, division = 11 (paper sec. 3.2): 28 + 11"},
+};
+const rtcfg_schema ist_schema = {"ist", "intersection unit", ist_params_tab, 2, NULL};
+
 static const ks_desc_item ist_items[] = {
-    {KS_DESC_PARAM, "ist.latency", "int", "in [ist] below", "",
-     "pipeline stages of one Wald test (after the primitive cache's hit latency)"},
-    {KS_DESC_PARAM, "ist.flops_per_test", "int", "in [ist] below", "",
-     "FLOPs of one Wald test with the division counted as 11 (paper sec. 3.2; Markstein 2004)"},
     {KS_DESC_PORT, "in[i]", "in fifo<trv_msg>", "", "", "leaf work from TRV i (round-robin)"},
     {KS_DESC_PORT, "out[i]", "out fifo<trv_msg>", "", "", "rays back to TRV i for the stack pop"},
     {KS_DESC_PORT, "prim_cache", "cache probe", "", "", "primitive cache (48 B unaligned reads)"},
@@ -30,7 +37,7 @@ static const ks_desc_item ist_items[] = {
      "one Wald test per cycle: ist.flops_per_test FLOP units; energy per FLOP of committed and invalidated tests"},
     {KS_DESC_END, 0, 0, 0, 0, 0}};
 
-const ks_module_desc ist_module_desc = {"ist", "ray-triangle intersection unit (Wald 2004), fully pipelined", ist_items};
+const ks_module_desc ist_module_desc = {"ist", "ray-triangle intersection unit (Wald 2004), fully pipelined", ist_items, "ist"};
 
 static int ist_step(void *user, uint64_t cycle);
 

@@ -13,6 +13,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "config/config.h"
 #include "kernel/clock.h"
 #include "kernel/fifo.h"
 #include "kernel/module_desc.h"
@@ -48,6 +49,9 @@ typedef struct ist_unit {
     pipe_trace stage_rays;             /* the ray of the test in each stage */
 } ist_unit;
 
+/* The unit's configuration section [ist] (rtcfg schema; registered by
+ * accel_add_schemas). */
+extern const rtcfg_schema ist_schema;
 extern const ks_module_desc ist_module_desc;
 
 void ist_free(ist_unit *u);

@@ -5,12 +5,20 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* The unit's parameters: the keys of its configuration section, written
+ * only here (type, default, range, unit, source); --help-module prints
+ * them after the table below, which names the section. */
+static const rtcfg_param sched_params_tab[] = {
+    {"admit_per_cycle", RTCFG_INT, "1", 1, 64, 0, NULL, "rays/cycle", "rays the scheduler admits per cycle (ours)"},
+    {"shade_latency", RTCFG_INT, "0", 0, 1000000, 0, NULL, "cycles",
+     "completion to bounce-ray ready: shading outside the accelerator (ours)"},
+    {"watchdog_cycles", RTCFG_INT, "2000000", 0, 1e12, 0, NULL, "cycles",
+     "stop with a report when no work is done (no node visit, triangle test or completed ray) for this long "
+     "plus the machine's longest wait (docs/accel.md); 0 = off"},
+};
+const rtcfg_schema sched_schema = {"sched", "ray scheduler", sched_params_tab, 3, NULL};
+
 static const ks_desc_item sched_items[] = {
-    {KS_DESC_PARAM, "sched.admit_per_cycle", "int", "in [sched] below", "", "rays admitted per cycle"},
-    {KS_DESC_PARAM, "sched.shade_latency", "int", "in [sched] below", "",
-     "cycles from a ray's completion until its bounce ray is ready (shading outside the accelerator)"},
-    {KS_DESC_PARAM, "sched.watchdog_cycles", "int", "in [sched] below", "", "stop with a report when no work is done (node visit, triangle test, completion) for this long "
-     "plus the machine's longest wait; 0 = off"},
     {KS_DESC_PORT, "to_trv[i]", "out fifo<trv_msg>", "", "", "new rays to TRV i"},
     {KS_DESC_PORT, "from_trv[i]", "in fifo<trv_msg>", "", "", "finished rays from TRV i"},
     {KS_DESC_STAT, "admitted", "rays", "", "", "rays admitted"},
@@ -29,7 +37,7 @@ static const ks_desc_item sched_items[] = {
     {KS_DESC_STAT, "latency", "cycles", "", "", "ray latency histogram"},
     {KS_DESC_END, 0, 0, 0, 0, 0}};
 
-const ks_module_desc sched_module_desc = {"sched", "ray scheduler: ray slots, primary rays, bounce feeding", sched_items};
+const ks_module_desc sched_module_desc = {"sched", "ray scheduler: ray slots, primary rays, bounce feeding", sched_items, "sched"};
 
 static int sched_step(void *user, uint64_t cycle);
 

@@ -15,6 +15,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "config/config.h"
 #include "kernel/clock.h"
 #include "kernel/fifo.h"
 #include "kernel/module_desc.h"
@@ -79,6 +80,9 @@ typedef struct sched_unit {
     ks_vcd_var *v_in_flight, *v_admit_ray, *v_done_ray;
 } sched_unit;
 
+/* The unit's configuration section [sched] (rtcfg schema; registered by
+ * accel_add_schemas). */
+extern const rtcfg_schema sched_schema;
 extern const ks_module_desc sched_module_desc;
 
 bool sched_init(sched_unit *s, const char *name, const sched_params *p, const accel_source *src, accel_ray *rays,

@@ -4,16 +4,26 @@
 #include <stdio.h>
 #include <string.h>
 
+/* The unit's parameters: the keys of its configuration section, written
+ * only here (type, default, range, unit, source); --help-module prints
+ * them after the table below, which names the section. */
+static const rtcfg_param trv_params_tab[] = {
+    {"count", RTCFG_INT, "4", 1, 64, 0, NULL, "units", "TRV units per IST (paper sec. 3: 4)"},
+    {"slots", RTCFG_INT, "32", 1, 1024, 0, NULL, "rays", "ray slots = stacks per TRV (paper sec. 3: 32)"},
+    {"stack_depth", RTCFG_INT, "64", 1, 4096, 0, NULL, "entries", "entries per ray stack (paper sec. 3: 64)"},
+    {"stack_banks", RTCFG_INT, "0", 0, 64, 0, NULL, "banks",
+     "stack memory banks; 0 = N for N > 2 (N-1 pushes plus the pop, paper sec. 3.1), 1 for BVH2"},
+    {"distance_stack", RTCFG_ENUM, "auto", 0, 0, 0, "auto|on|off", "",
+     "distance stack culling; auto = on for N > 2 only (paper sec. 3.1)"},
+    {"stages_box", RTCFG_INT, "3", 1, 32, 0, NULL, "stages", "slab test stages: sub, mul, min/max compare (ours)"},
+    {"stages_stack", RTCFG_INT, "1", 1, 8, 0, NULL, "stages", "stack access stages (ours)"},
+    {"stages_next", RTCFG_INT, "1", 1, 8, 0, NULL, "stages", "next-state stages (ours)"},
+    {"box_flops", RTCFG_INT, "12", 1, 64, 0, NULL, "FLOP", "FLOPs per slab test lane: 6 sub + 6 mul (bvh_layout.h)"},
+};
+const rtcfg_schema trv_schema = {"trv", "traversal units (sort stages = sorting network depth, sort_net.h)",
+                                       trv_params_tab, 9, NULL};
+
 static const ks_desc_item trv_items[] = {
-    {KS_DESC_PARAM, "trv.count", "int", "in [trv] below", "", "TRV units per IST (paper sec. 3)"},
-    {KS_DESC_PARAM, "trv.slots", "int", "in [trv] below", "", "ray slots (stacks) per TRV (paper sec. 3)"},
-    {KS_DESC_PARAM, "trv.stack_depth", "int", "in [trv] below", "", "entries per ray stack (paper sec. 3)"},
-    {KS_DESC_PARAM, "trv.stack_banks", "int", "in [trv] below", "", "stack memory banks; 0 = N for N > 2 (N-1 pushes plus the pop, sec. 3.1), 1 for BVH2"},
-    {KS_DESC_PARAM, "trv.distance_stack", "enum auto|on|off", "in [trv] below", "", "distance stack culling; auto = on for N > 2 (sec. 3.1)"},
-    {KS_DESC_PARAM, "trv.stages_box", "int", "in [trv] below", "", "pipeline stages of the slab test"},
-    {KS_DESC_PARAM, "trv.stages_stack", "int", "in [trv] below", "", "pipeline stages of the stack access"},
-    {KS_DESC_PARAM, "trv.stages_next", "int", "in [trv] below", "", "pipeline stages of the next-state logic"},
-    {KS_DESC_PARAM, "trv.box_flops", "int", "in [trv] below", "", "FLOPs per slab test lane (6 sub + 6 mul, bvh_layout.h)"},
     {KS_DESC_PORT, "in_new", "in fifo<trv_msg>", "", "", "new rays from the scheduler"},
     {KS_DESC_PORT, "in_ist", "in fifo<trv_msg>", "", "", "rays back from the IST after a leaf"},
     {KS_DESC_PORT, "out_ist", "out fifo<trv_msg>", "", "", "rays with a leaf to test"},
@@ -56,7 +66,7 @@ static const ks_desc_item trv_items[] = {
     {KS_DESC_END, 0, 0, 0, 0, 0}};
 
 const ks_module_desc trv_module_desc = {"trv", "BVH/MBVH traversal unit: node fetch, slab tests, sort, banked stack",
-                                        trv_items};
+                                        trv_items, "trv"};
 
 static const char *const trv_state_names[] = {"idle", "issue", "stall", "wait_out"};
 enum { TRV_ST_IDLE, TRV_ST_ISSUE, TRV_ST_STALL, TRV_ST_WAIT_OUT };

@@ -24,6 +24,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include "config/config.h"
 #include "kernel/clock.h"
 #include "kernel/fifo.h"
 #include "kernel/module_desc.h"
@@ -73,6 +74,9 @@ typedef struct trv_unit {
     pipe_trace stage_rays;   /* the ray in each stage after issue */
 } trv_unit;
 
+/* The unit's configuration section [trv] (rtcfg schema; registered by
+ * accel_add_schemas). */
+extern const rtcfg_schema trv_schema;
 extern const ks_module_desc trv_module_desc;
 
 /* Pipeline depth for params: fetch + box + sort layers + stack + next. */

@@ -682,11 +682,10 @@ int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *er
     finish_stats(t, rc ? now_cycle : 0);
     if (rc == 0 && t->sched.any_failed) {
         snprintf(err, errlen,
-                 "%llu rays overflowed their %u-entry traversal stack: the stack is too small for this scene "
+                 "%.0f rays overflowed their %u-entry traversal stack: the stack is too small for this scene "
                  "(raise trv.stack_depth, allowed 1..4096)",
-                 (unsigned long long)t->sched.failed, t->p.trv.core.stack_depth);
-        snprintf(t->failure, sizeof t->failure, "%llu rays overflowed their stack",
-                 (unsigned long long)t->sched.failed);
+                 stat_named(t->stats, "sched.failed"), t->p.trv.core.stack_depth);
+        snprintf(t->failure, sizeof t->failure, "%.0f rays overflowed their stack", stat_named(t->stats, "sched.failed"));
         rc = 1;
     }
     t->stat_failed = rc != 0 && !ks_interrupted();   /* interrupted: partial, not failed */
@@ -707,6 +706,9 @@ ks_stats *accel_top_stats(accel_top *t) { return t->stats; }
 const accel_params *accel_top_params(const accel_top *t) { return &t->p; }
 uint64_t accel_top_guard_cycle(const accel_top *t) { return t->guard_cycle; }
 
+/* 100 x part / whole, 0 when whole is 0. */
+static double percent(double part, double whole) { return whole ? 100.0 * part / whole : 0.0; }
+
 void accel_top_print_summary(accel_top *t, FILE *out)
 {
     fprintf(out, "machine     %d-wide, %u TRV x %u slots, 1 IST, %.0f MHz\n", t->p.width, t->p.trv_count,
@@ -718,35 +720,33 @@ void accel_top_print_summary(accel_top *t, FILE *out)
         fprintf(out, "guard       livelock guard engaged at cycle %llu: rays thrashed a node L1 and took turns from "
                      "then on (docs/accel.md)\n",
                 (unsigned long long)t->guard_cycle);
-    fprintf(out, "cycles      %llu\n", (unsigned long long)t->cycles);
-    fprintf(out, "rays        %llu (%llu primary, %llu bounce)\n", (unsigned long long)t->rays_done,
-            (unsigned long long)t->sched.primaries, (unsigned long long)t->sched.bounces);
-    if (t->sched.src.occlusion)
-        fprintf(out, "occlusion   %llu rays, %llu occluded\n", (unsigned long long)t->sched.occlusion_rays,
-                (unsigned long long)t->sched.occluded);
-    fprintf(out, "MRPS        %.2f at %.0f MHz\n", t->mrps, t->p.clock_mhz);
-    fprintf(out, "in flight   %.1f rays mean, %llu max; latency %.0f cycles mean\n", t->stat_in_flight,
-            (unsigned long long)t->sched.max_in_flight,
-            t->sched.completed ? (double)t->sched.latency_sum / (double)t->sched.completed : 0.0);
+    /* the figures from the statistics registry, as the JSON has them */
+    const ks_stats *st = t->stats;
+    double cycles = stat_named(st, "cycles"), hits = 0, accesses = 0;
+    fprintf(out, "cycles      %.0f\n", cycles);
+    fprintf(out, "rays        %.0f (%.0f primary, %.0f bounce)\n", stat_named(st, "rays"),
+            stat_named(st, "sched.primaries"), stat_named(st, "sched.bounces"));
+    double occlusion_rays;
+    if (ks_stats_value(st, "sched.occlusion_rays", &occlusion_rays) == 0)   /* registered in occlusion runs only */
+        fprintf(out, "occlusion   %.0f rays, %.0f occluded\n", occlusion_rays, stat_named(st, "sched.occluded"));
+    fprintf(out, "MRPS        %.2f at %.0f MHz\n", stat_named(st, "mrps"), t->p.clock_mhz);
+    fprintf(out, "in flight   %.1f rays mean, %.0f max; latency %.0f cycles mean\n", stat_named(st, "rays_in_flight_mean"),
+            stat_named(st, "sched.max_in_flight"), stat_named(st, "sched.latency_mean"));
     fprintf(out, "utilization");
     for (uint32_t i = 0; i < t->p.trv_count; i++)
-        fprintf(out, " trv%u %.1f%%", i, t->cycles ? 100.0 * (double)t->trv[i].busy_cycles / (double)t->cycles : 0.0);
-    fprintf(out, " ist %.1f%%\n", t->cycles ? 100.0 * (double)t->ist.busy_cycles / (double)t->cycles : 0.0);
-    cache_stats cs, sum = {0};
+        fprintf(out, " trv%u %.1f%%", i, percent(stat_named(st, "%s.busy_cycles", t->names[i]), cycles));
+    fprintf(out, " ist %.1f%%\n", percent(stat_named(st, "ist.busy_cycles"), cycles));
     for (uint32_t i = 0; i < t->p.trv_count; i++) {
-        cache_get_stats(memsys_node_l1(t->mem, (int)i), &cs);
-        sum.accesses += cs.accesses, sum.hits += cs.hits;
+        hits += stat_named(st, "node_l1_%u.hits", i);
+        accesses += stat_named(st, "node_l1_%u.accesses", i);
     }
-    fprintf(out, "caches      node L1 %.2f%% hits (%llu accesses)", sum.accesses ? 100.0 * (double)sum.hits / (double)sum.accesses : 0.0,
-            (unsigned long long)sum.accesses);
-    cache_get_stats(memsys_node_l2(t->mem), &cs);
-    fprintf(out, ", node L2 %.2f%% (%llu)", cs.accesses ? 100.0 * (double)cs.hits / (double)cs.accesses : 0.0,
-            (unsigned long long)cs.accesses);
-    cache_get_stats(memsys_prim(t->mem), &cs);
-    fprintf(out, ", prim %.2f%% (%llu)\n", cs.accesses ? 100.0 * (double)cs.hits / (double)cs.accesses : 0.0,
-            (unsigned long long)cs.accesses);
-    fprintf(out, "DRAM        %.2f MB, %.2f GB/s (%s memory)\n", (double)t->stat_dram_bytes / 1e6, t->stat_dram_gbs,
-            memsys_memory_model(t->mem) == MEMSYS_LPDDR3 ? "LPDDR3" : "fixed-latency");
+    fprintf(out, "caches      node L1 %.2f%% hits (%.0f accesses)", percent(hits, accesses), accesses);
+    accesses = stat_named(st, "node_l2.accesses");
+    fprintf(out, ", node L2 %.2f%% (%.0f)", percent(stat_named(st, "node_l2.hits"), accesses), accesses);
+    accesses = stat_named(st, "prim.accesses");
+    fprintf(out, ", prim %.2f%% (%.0f)\n", percent(stat_named(st, "prim.hits"), accesses), accesses);
+    fprintf(out, "DRAM        %.2f MB, %.2f GB/s (%s memory)\n", stat_named(st, "dram_bytes") / 1e6,
+            stat_named(st, "dram_bandwidth_gbs"), memsys_memory_model(t->mem) == MEMSYS_LPDDR3 ? "LPDDR3" : "fixed-latency");
     if (t->energy)
         energy_print_summary(t->energy, out);
 }

@@ -4,6 +4,7 @@
 
 #include "model/energy/energy.h"
 
+#include <stdio.h>
 #include <string.h>
 
 #include "model/mem/memsys_config.h"
@@ -22,12 +23,6 @@ static const rtcfg_param fifo_params_tab[] = {
 };
 static int check_ray_side(const rtcfg *cfg, char *err, size_t errlen);
 const rtcfg_schema accel_schema_fifo = {"fifo", "ray-side FIFOs", fifo_params_tab, 7, check_ray_side};
-
-static const char *const fifo_keys[] = {"fifo.ray_new",      "fifo.ray_leaf",     "fifo.ray_return",
-                                        "fifo.ray_done",     "fifo.ray_trv_loop", "fifo.ray_ist_loop"};
-
-unsigned accel_fifo_key_count(void) { return 6; }
-const char *accel_fifo_key(unsigned i) { return i < 6 ? fifo_keys[i] : NULL; }
 
 int accel_add_schemas(rtcfg *cfg, char *err, size_t errlen)
 {
@@ -68,12 +63,6 @@ void accel_params_get(const rtcfg *cfg, accel_params *o)
     o->sched.admit_per_cycle = I("sched.admit_per_cycle");
     o->sched.shade_latency = I("sched.shade_latency");
     o->sched.watchdog_cycles = (uint64_t)rtcfg_int(cfg, "sched.watchdog_cycles");
-    o->fifo_new = I("fifo.ray_new");
-    o->fifo_leaf = I("fifo.ray_leaf");
-    o->fifo_return = I("fifo.ray_return");
-    o->fifo_done = I("fifo.ray_done");
-    o->fifo_trv_loop = I("fifo.ray_trv_loop");
-    o->fifo_ist_loop = I("fifo.ray_ist_loop");
     o->fifo_latency = I("fifo.ray_latency");
 #undef I
 }
@@ -106,12 +95,40 @@ uint32_t accel_trv_depth_of(const rtcfg *cfg)
            (uint32_t)rtcfg_int(cfg, "trv.stages_stack") + (uint32_t)rtcfg_int(cfg, "trv.stages_next");
 }
 
-uint32_t accel_fifo_min(const rtcfg *cfg, unsigned i)
+static uint32_t trv_loop_min(const rtcfg *cfg)
 {
     uint32_t slots = (uint32_t)rtcfg_int(cfg, "trv.slots"), depth = accel_trv_depth_of(cfg);
-    if (i == 4)   /* ray_trv_loop */
-        return slots >= depth ? slots - depth + 1 : 1;
-    return 1;
+    return slots >= depth ? slots - depth + 1 : 1;
+}
+
+const accel_fifo_desc accel_ray_fifos[ACCEL_FIFO_COUNT] = {
+    [ACCEL_FIFO_NEW] = {"trv#.new", "fifo.ray_new", "sched", "trv#", false, {NULL, NULL}, NULL},
+    [ACCEL_FIFO_LEAF] = {"trv#.leaf", "fifo.ray_leaf", "trv#", "ist", false, {NULL, NULL}, NULL},
+    [ACCEL_FIFO_RETURN] = {"trv#.return", "fifo.ray_return", "ist", "trv#", false, {NULL, NULL}, NULL},
+    [ACCEL_FIFO_DONE] = {"trv#.done", "fifo.ray_done", "trv#", "sched", false, {NULL, NULL}, NULL},
+    /* every ray the TRV issues from its loop was written to it */
+    [ACCEL_FIFO_TRV_LOOP] = {"trv#.loop", "fifo.ray_trv_loop", "trv#", "trv#", true, {"trv#.issue_loop", NULL},
+                             trv_loop_min},
+    /* a ray goes round the IST's loop after each missed (or blocked) test */
+    [ACCEL_FIFO_IST_LOOP] = {"ist.loop", "fifo.ray_ist_loop", "ist", "ist", true,
+                             {"ist.loops_miss", "ist.loops_blocked"}, NULL},
+};
+
+bool accel_fifo_per_trv(const accel_fifo_desc *d) { return strchr(d->name, '#') != NULL; }
+
+const char *accel_fifo_expand(const char *pattern, uint32_t trv, char *buf, size_t len)
+{
+    const char *hash = strchr(pattern, '#');
+    if (hash)
+        snprintf(buf, len, "%.*s%u%s", (int)(hash - pattern), pattern, trv, hash + 1);
+    else
+        snprintf(buf, len, "%s", pattern);
+    return buf;
+}
+
+uint32_t accel_fifo_min(const rtcfg *cfg, accel_fifo_id id)
+{
+    return accel_ray_fifos[id].min ? accel_ray_fifos[id].min(cfg) : 1;
 }
 
 uint32_t accel_leaf_return_min(const rtcfg *cfg)
@@ -125,14 +142,15 @@ static int check_ray_side(const rtcfg *cfg, char *err, size_t errlen)
     if (!rtcfg_has(cfg, "trv.slots"))
         return 0;
     uint32_t slots = (uint32_t)rtcfg_int(cfg, "trv.slots"), depth = accel_trv_depth_of(cfg);
-    int64_t loop = rtcfg_int(cfg, "fifo.ray_trv_loop");
-    uint32_t loop_min = accel_fifo_min(cfg, 4);
+    const char *loop_key = accel_ray_fifos[ACCEL_FIFO_TRV_LOOP].key;
+    int64_t loop = rtcfg_int(cfg, loop_key);
+    uint32_t loop_min = accel_fifo_min(cfg, ACCEL_FIFO_TRV_LOOP);
     if (loop < loop_min)
         return rtcfg_errorf(err, errlen,
-                            "fifo.ray_trv_loop = %lld (%s) can deadlock a TRV: with trv.slots = %u and a %u-stage "
+                            "%s = %lld (%s) can deadlock a TRV: with trv.slots = %u and a %u-stage "
                             "pipeline it must be >= trv.slots - stages + 1 = %u (allowed %u..65536; stages = "
                             "node_l1.hit_latency + trv.stages_box + sort layers + trv.stages_stack + trv.stages_next)",
-                            (long long)loop, rtcfg_source(cfg, "fifo.ray_trv_loop"), slots, depth, loop_min, loop_min);
+                            loop_key, (long long)loop, rtcfg_source(cfg, loop_key), slots, depth, loop_min, loop_min);
     /* Caches that rays wait on: a probe is all-or-nothing (cache.h), so a
      * waiting ray needs every line of its node (triangle) present at once.
      * When the cache cannot hold the lines of every ray that may wait on it
@@ -166,12 +184,13 @@ static int check_ray_side(const rtcfg *cfg, char *err, size_t errlen)
                                 (long long)rtcfg_int(cfg, "prim.size"), (long long)(rtcfg_int(cfg, "prim.size") / line),
                                 (long long)rays, (long long)lines, (long long)line, (long long)(need * line));
     }
-    int64_t leaf = rtcfg_int(cfg, "fifo.ray_leaf"), ret = rtcfg_int(cfg, "fifo.ray_return");
+    const char *leaf_key = accel_ray_fifos[ACCEL_FIFO_LEAF].key, *ret_key = accel_ray_fifos[ACCEL_FIFO_RETURN].key;
+    int64_t leaf = rtcfg_int(cfg, leaf_key), ret = rtcfg_int(cfg, ret_key);
     uint32_t lr_min = accel_leaf_return_min(cfg);
     if (leaf + ret < lr_min)
         return rtcfg_errorf(err, errlen,
-                            "fifo.ray_leaf + fifo.ray_return = %lld + %lld can deadlock the TRV-IST loop: with "
+                            "%s + %s = %lld + %lld can deadlock the TRV-IST loop: with "
                             "trv.slots = %u and a %u-stage TRV pipeline their sum must be >= %u (each 1..65536)",
-                            (long long)leaf, (long long)ret, slots, depth, lr_min);
+                            leaf_key, ret_key, (long long)leaf, (long long)ret, slots, depth, lr_min);
     return 0;
 }

@@ -3,6 +3,7 @@
 
 #include <assert.h>
 #include <math.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -38,7 +39,11 @@ struct accel_top {
     ist_unit ist;
     memsys *mem;
     energy_model *energy;
-    ks_fifo **f_new, **f_leaf, **f_ret, **f_done;
+    /* the ray side's FIFOs, per row of accel_ray_fifos (accel_config.h) and
+     * instance (the TRV's index, or 0): a kernel FIFO, or the consumer's
+     * ring for a ring row */
+    ks_fifo **fifo[ACCEL_FIFO_COUNT];
+    const pipe_ring **ring[ACCEL_FIFO_COUNT];
     char (*names)[32];
     uint64_t cycles, rays_done;
     double mrps, seconds;
@@ -54,13 +59,57 @@ struct accel_top {
     double stat_mrps, stat_dram_gbs, stat_in_flight;
 };
 
-static int make_fifo(accel_top *t, ks_fifo **out, const char *name, uint32_t cap, char *err, size_t errlen)
+/* The statistic named by the format, or 0 when no statistic has that name
+ * (the summary and the energy model read the units' figures this way). */
+static double stat_named(const ks_stats *st, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static double stat_named(const ks_stats *st, const char *fmt, ...)
 {
-    *out = ks_fifo_create(t->sim, name, sizeof(trv_msg), cap, t->p.fifo_latency, t->clk);
-    if (!*out) {
-        snprintf(err, errlen, "FIFO %s: %s", name, ks_sim_error(t->sim));
-        return -1;
+    char name[160];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(name, sizeof name, fmt, ap);
+    va_end(ap);
+    return ks_stats_value_or(st, name, 0.0);
+}
+
+/* Instances of a row of accel_ray_fifos: one per TRV, or one. */
+static uint32_t ray_fifo_instances(const accel_top *t, const accel_fifo_desc *d)
+{
+    return accel_fifo_per_trv(d) ? t->p.trv_count : 1;
+}
+
+/* Creates the kernel FIFOs of the ray side from accel_ray_fifos, TRV by
+ * TRV in the table's order (trv0.new, trv0.leaf, ..., trv1.new, ...), and
+ * records the rings the TRVs and the IST hold for the ring rows. */
+static int build_ray_fifos(accel_top *t, const rtcfg *cfg, char *err, size_t errlen)
+{
+    for (int r = 0; r < ACCEL_FIFO_COUNT; r++) {
+        size_t n = ray_fifo_instances(t, &accel_ray_fifos[r]);
+        if (!(t->fifo[r] = calloc(n, sizeof *t->fifo[r])) || !(t->ring[r] = calloc(n, sizeof *t->ring[r]))) {
+            snprintf(err, errlen, "out of memory for the ray-side FIFOs");
+            return -1;
+        }
     }
+    for (uint32_t i = 0; i < t->p.trv_count; i++) {
+        t->ring[ACCEL_FIFO_TRV_LOOP][i] = &t->trv[i].loop;
+        for (int r = 0; r < ACCEL_FIFO_COUNT; r++) {
+            const accel_fifo_desc *d = &accel_ray_fifos[r];
+            if (d->ring || i >= ray_fifo_instances(t, d))
+                continue;
+            char nm[64];
+            uint32_t cap = (uint32_t)rtcfg_int(cfg, d->key);
+            accel_fifo_expand(d->name, i, nm, sizeof nm);
+            t->fifo[r][i] = ks_fifo_create(t->sim, nm, sizeof(trv_msg), cap, t->p.fifo_latency, t->clk);
+            if (!t->fifo[r][i]) {
+                char from[32], to[32];
+                snprintf(err, errlen, "FIFO %s (%s = %u, %s -> %s): %s", nm, d->key, cap,
+                         accel_fifo_expand(d->producer, i, from, sizeof from),
+                         accel_fifo_expand(d->consumer, i, to, sizeof to), ks_sim_error(t->sim));
+                return -1;
+            }
+        }
+    }
+    t->ring[ACCEL_FIFO_IST_LOOP][0] = &t->ist.loop;
     return 0;
 }
 
@@ -123,23 +172,6 @@ static int register_fifo_stats(accel_top *t)
     return rc;
 }
 
-/* The memory-side FIFO keys that carry a cache line, and whose line: the
- * rest carry requests (energy.fifo_request_bytes). */
-static double fifo_data_bytes(const rtcfg *cfg, const char *key)
-{
-    double l1 = (double)rtcfg_int(cfg, "node_l1.line"), l2 = (double)rtcfg_int(cfg, "node_l2.line"),
-           prim = (double)rtcfg_int(cfg, "prim.line");
-    if (!strcmp(key, "fifo.mem_l1_fill") || !strcmp(key, "fifo.mem_l2_resp"))
-        return l1;
-    if (!strcmp(key, "fifo.mem_l2_fill"))
-        return l2;
-    if (!strcmp(key, "fifo.mem_prim_fill"))
-        return prim;
-    if (!strcmp(key, "fifo.mem_resp") || !strcmp(key, "fifo.mem_dram_resp"))
-        return l2 > prim ? l2 : prim;
-    return 0;
-}
-
 static int energy_fifo_index(energy_machine *m, const char *key)
 {
     for (int i = 0; i < m->nfifo; i++)
@@ -189,23 +221,19 @@ static energy_model *build_energy_model(accel_top *t, const rtcfg *cfg, char *er
 #undef CACHE_KEY
     }
     m.ncache = 3;
+    /* the ray side's FIFOs carry a ray each; the memory side's a line or a request */
     double ray_bytes = (double)rtcfg_int(cfg, "energy.fifo_ray_bytes");
-    for (uint32_t i = 0; i < t->p.trv_count; i++) {
-        energy_add_fifo(&m, "fifo.ray_new", t->p.fifo_new, ray_bytes);
-        energy_add_fifo(&m, "fifo.ray_leaf", t->p.fifo_leaf, ray_bytes);
-        energy_add_fifo(&m, "fifo.ray_return", t->p.fifo_return, ray_bytes);
-        energy_add_fifo(&m, "fifo.ray_done", t->p.fifo_done, ray_bytes);
-        energy_add_fifo(&m, "fifo.ray_trv_loop", t->p.fifo_trv_loop, ray_bytes);
+    for (int r = 0; r < ACCEL_FIFO_COUNT; r++) {
+        const accel_fifo_desc *d = &accel_ray_fifos[r];
+        for (uint32_t i = 0; i < ray_fifo_instances(t, d); i++)
+            energy_add_fifo(&m, d->key, (double)rtcfg_int(cfg, d->key), ray_bytes);
     }
-    energy_add_fifo(&m, "fifo.ray_ist_loop", t->p.fifo_ist_loop, ray_bytes);
     double req_bytes = (double)rtcfg_int(cfg, "energy.fifo_request_bytes");
     for (int i = 0; i < memsys_fifo_count(t->mem); i++) {
         const char *key = NULL;
-        ks_fifo *f = memsys_fifo_at(t->mem, i, &key);
-        if (!key)
-            continue;
-        double data = fifo_data_bytes(cfg, key);
-        energy_add_fifo(&m, key, ks_fifo_capacity(f), data > 0 ? data : req_bytes);
+        uint32_t line = 0;
+        ks_fifo *f = memsys_fifo_at(t->mem, i, &key, &line);
+        energy_add_fifo(&m, key, ks_fifo_capacity(f), line ? line : req_bytes);
     }
     m.dram_modeled = memsys_dram_port(t->mem) && *rtcfg_str(cfg, "memory.dram_power");
     m.fixed_mem_pj_per_byte = rtcfg_real(cfg, "energy.fixed_mem_pj_per_byte");
@@ -225,70 +253,68 @@ static energy_model *build_energy_model(accel_top *t, const rtcfg *cfg, char *er
     return em;
 }
 
-static double stat_or_zero(const ks_stats *st, const char *name) { return ks_stats_value_or(st, name, 0.0); }
+/* Adds the reads and writes of kernel FIFO `name` (its fifo.<name>.*
+ * statistics) to the energy model's FIFO j. */
+static void add_fifo_activity(energy_activity *a, int j, const ks_stats *st, const char *name)
+{
+    a->fifo_reads[j] += stat_named(st, "fifo.%s.reads", name);
+    a->fifo_writes[j] += stat_named(st, "fifo.%s.writes", name);
+}
 
-/* Activity of the run from the statistics registry and the FIFOs' counters. */
+/* Activity of the run, from the statistics registry. */
 static void compute_energy(accel_top *t)
 {
     energy_model *em = t->energy;
-    const energy_machine *m = &em->m;
+    const ks_stats *st = t->stats;
     energy_activity a = {0};
-    char k[96];
+    char nm[64];
     a.seconds = t->seconds;
     double comparators = sort_net_get(t->p.width)->ncmps;
-    static const char *const ray_keys[4] = {"fifo.ray_new", "fifo.ray_leaf", "fifo.ray_return", "fifo.ray_done"};
-    int ray_fifo[4], loop_fifo = energy_fifo_index(&em->m, "fifo.ray_trv_loop");
-    for (int j = 0; j < 4; j++)
-        ray_fifo[j] = energy_fifo_index(&em->m, ray_keys[j]);
     for (uint32_t i = 0; i < t->p.trv_count; i++) {
         /* slab tests of all lanes, and one FLOP per comparator of each sort */
-        snprintf(k, sizeof k, "%s.flops", t->names[i]);
-        a.trv_flops += stat_or_zero(t->stats, k);
-        snprintf(k, sizeof k, "%s.sort_passes", t->names[i]);
-        a.trv_flops += comparators * stat_or_zero(t->stats, k);
-        snprintf(k, sizeof k, "%s.stack_pops", t->names[i]);
-        a.stack_reads += stat_or_zero(t->stats, k);
-        snprintf(k, sizeof k, "%s.stack_pushes", t->names[i]);
-        a.stack_writes += stat_or_zero(t->stats, k);
-        snprintf(k, sizeof k, "node_l1_%u.accesses", i);
-        a.cache_reads[0] += stat_or_zero(t->stats, k);
-        snprintf(k, sizeof k, "node_l1_%u.fills", i);
-        a.cache_writes[0] += stat_or_zero(t->stats, k);
-        /* the loop ring of a TRV: every ray issued from it was written to it */
-        snprintf(k, sizeof k, "%s.issue_loop", t->names[i]);
-        double loops = stat_or_zero(t->stats, k);
-        a.fifo_reads[loop_fifo] += loops;
-        a.fifo_writes[loop_fifo] += loops;
-        ks_fifo *ray_fifos[4] = {t->f_new[i], t->f_leaf[i], t->f_ret[i], t->f_done[i]};
-        for (int j = 0; j < 4; j++) {
-            a.fifo_reads[ray_fifo[j]] += (double)ks_fifo_total_reads(ray_fifos[j]);
-            a.fifo_writes[ray_fifo[j]] += (double)ks_fifo_total_writes(ray_fifos[j]);
+        a.trv_flops += stat_named(st, "%s.flops", t->names[i]);
+        a.trv_flops += comparators * stat_named(st, "%s.sort_passes", t->names[i]);
+        a.stack_reads += stat_named(st, "%s.stack_pops", t->names[i]);
+        a.stack_writes += stat_named(st, "%s.stack_pushes", t->names[i]);
+        a.cache_reads[0] += stat_named(st, "node_l1_%u.accesses", i);
+        a.cache_writes[0] += stat_named(st, "node_l1_%u.fills", i);
+    }
+    /* the ray side's FIFOs; a ring is written once per ray that goes round
+     * it and read once when the ray comes back (accel_config.h) */
+    for (int r = 0; r < ACCEL_FIFO_COUNT; r++) {
+        const accel_fifo_desc *d = &accel_ray_fifos[r];
+        int j = energy_fifo_index(&em->m, d->key);
+        for (uint32_t i = 0; j >= 0 && i < ray_fifo_instances(t, d); i++) {
+            if (!d->ring) {
+                add_fifo_activity(&a, j, st, accel_fifo_expand(d->name, i, nm, sizeof nm));
+                continue;
+            }
+            double writes = 0;
+            for (int k = 0; k < 2 && d->ring_writes[k]; k++)
+                writes += stat_named(st, "%s", accel_fifo_expand(d->ring_writes[k], i, nm, sizeof nm));
+            a.fifo_reads[j] += writes;
+            a.fifo_writes[j] += writes;
         }
     }
-    int f = energy_fifo_index(&em->m, "fifo.ray_ist_loop");
-    a.fifo_reads[f] = a.fifo_writes[f] = stat_or_zero(t->stats, "ist.loops_miss") +
-                                         stat_or_zero(t->stats, "ist.loops_blocked");
-    a.ist_flops = stat_or_zero(t->stats, "ist.flops");
-    a.cache_reads[1] = stat_or_zero(t->stats, "node_l2.accesses");
-    a.cache_writes[1] = stat_or_zero(t->stats, "node_l2.fills");
-    a.cache_reads[2] = stat_or_zero(t->stats, "prim.accesses");
-    a.cache_writes[2] = stat_or_zero(t->stats, "prim.fills");
+    a.ist_flops = stat_named(st, "ist.flops");
+    a.cache_reads[1] = stat_named(st, "node_l2.accesses");
+    a.cache_writes[1] = stat_named(st, "node_l2.fills");
+    a.cache_reads[2] = stat_named(st, "prim.accesses");
+    a.cache_writes[2] = stat_named(st, "prim.fills");
     for (int i = 0; i < memsys_fifo_count(t->mem); i++) {
         const char *key = NULL;
-        ks_fifo *fi = memsys_fifo_at(t->mem, i, &key);
-        int j = key ? energy_fifo_index(&em->m, key) : -1;
-        if (j < 0)
-            continue;
-        a.fifo_reads[j] += (double)ks_fifo_total_reads(fi);
-        a.fifo_writes[j] += (double)ks_fifo_total_writes(fi);
+        ks_fifo *f = memsys_fifo_at(t->mem, i, &key, NULL);
+        int j = energy_fifo_index(&em->m, key);
+        if (j >= 0)
+            add_fifo_activity(&a, j, st, ks_fifo_name(f));
     }
-    if (m->dram_modeled) {
-        double total = stat_or_zero(t->stats, "dram.energy_uJ"), bg = stat_or_zero(t->stats, "dram.background_energy_uJ");
+    if (em->m.dram_modeled) {
+        double total = stat_named(st, "dram.energy_uJ"), bg = stat_named(st, "dram.background_energy_uJ");
         a.dram_dynamic_nj = (total - bg) * 1e3;
         a.dram_static_nj = bg * 1e3;
     }
-    a.dram_bytes = (double)t->stat_dram_bytes;
-    energy_compute(em, &a, t->mrps);
+    a.dram_bytes = stat_named(st, "dram_bytes");
+    energy_compute(em, &a, stat_named(st, "mrps"));
 }
 
 static uint64_t ceil_div(uint64_t a, uint64_t b) { return b ? (a + b - 1) / b : 0; }
@@ -376,12 +402,8 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     }
     t->rays = calloc((size_t)ntrv * slots, sizeof *t->rays);
     t->trv = calloc(ntrv, sizeof *t->trv);
-    t->f_new = calloc(ntrv, sizeof(ks_fifo *));
-    t->f_leaf = calloc(ntrv, sizeof(ks_fifo *));
-    t->f_ret = calloc(ntrv, sizeof(ks_fifo *));
-    t->f_done = calloc(ntrv, sizeof(ks_fifo *));
     t->names = calloc(ntrv, sizeof *t->names);
-    if (!t->rays || !t->trv || !t->f_new || !t->f_leaf || !t->f_ret || !t->f_done || !t->names) {
+    if (!t->rays || !t->trv || !t->names) {
         snprintf(err, errlen, "out of memory for %u TRVs x %u slots", ntrv, slots);
         accel_top_destroy(t);
         return NULL;
@@ -412,37 +434,28 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     }
     for (uint32_t i = 0; i < ntrv; i++) {
         snprintf(t->names[i], sizeof t->names[i], "trv%u", i);
-        if (!trv_init(&t->trv[i], i, t->names[i], &t->p.trv, &t->img, t->rays, t->sim, t->clk, t->p.fifo_trv_loop, err,
-                      (unsigned)errlen)) {
+        if (!trv_init(&t->trv[i], i, t->names[i], &t->p.trv, &t->img, t->rays, t->sim, t->clk,
+                      (uint32_t)rtcfg_int(cfg, accel_ray_fifos[ACCEL_FIFO_TRV_LOOP].key), err, (unsigned)errlen)) {
             accel_top_destroy(t);
             return NULL;
         }
     }
-    if (!ist_init(&t->ist, "ist", &t->p.ist, &t->img, t->rays, t->sim, t->clk, t->p.fifo_ist_loop, 0, err,
-                  (unsigned)errlen)) {
+    if (!ist_init(&t->ist, "ist", &t->p.ist, &t->img, t->rays, t->sim, t->clk,
+                  (uint32_t)rtcfg_int(cfg, accel_ray_fifos[ACCEL_FIFO_IST_LOOP].key), 0, err, (unsigned)errlen)) {
         accel_top_destroy(t);
         return NULL;
     }
+    if (build_ray_fifos(t, cfg, err, errlen))
+        goto fail;
+    ks_fifo **f_new = t->fifo[ACCEL_FIFO_NEW], **f_leaf = t->fifo[ACCEL_FIFO_LEAF],
+            **f_ret = t->fifo[ACCEL_FIFO_RETURN], **f_done = t->fifo[ACCEL_FIFO_DONE];
     for (uint32_t i = 0; i < ntrv; i++) {
-        char nm[64];
-        snprintf(nm, sizeof nm, "trv%u.new", i);
-        if (make_fifo(t, &t->f_new[i], nm, t->p.fifo_new, err, errlen))
-            goto fail;
-        snprintf(nm, sizeof nm, "trv%u.leaf", i);
-        if (make_fifo(t, &t->f_leaf[i], nm, t->p.fifo_leaf, err, errlen))
-            goto fail;
-        snprintf(nm, sizeof nm, "trv%u.return", i);
-        if (make_fifo(t, &t->f_ret[i], nm, t->p.fifo_return, err, errlen))
-            goto fail;
-        snprintf(nm, sizeof nm, "trv%u.done", i);
-        if (make_fifo(t, &t->f_done[i], nm, t->p.fifo_done, err, errlen))
-            goto fail;
-        trv_bind(&t->trv[i], t->f_new[i], t->f_ret[i], t->f_leaf[i], t->f_done[i]);
+        trv_bind(&t->trv[i], f_new[i], f_ret[i], f_leaf[i], f_done[i]);
         if (opts->events)
             trv_set_events(&t->trv[i], opts->events, opts->events_user);
     }
-    sched_bind(&t->sched, t->f_new, t->f_done);
-    ist_bind(&t->ist, ntrv, t->f_leaf, t->f_ret);
+    sched_bind(&t->sched, f_new, f_done);
+    ist_bind(&t->ist, ntrv, f_leaf, f_ret);
     if (opts->events)
         ist_set_events(&t->ist, opts->events, opts->events_user);
 
@@ -521,10 +534,10 @@ void accel_top_destroy(accel_top *t)
         ks_stats_destroy(t->stats);
     free(t->rays);
     free(t->trv);
-    free(t->f_new);
-    free(t->f_leaf);
-    free(t->f_ret);
-    free(t->f_done);
+    for (int r = 0; r < ACCEL_FIFO_COUNT; r++) {
+        free(t->fifo[r]);
+        free(t->ring[r]);
+    }
     free(t->names);
     free(t);
 }
@@ -669,11 +682,10 @@ int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *er
     finish_stats(t, rc ? now_cycle : 0);
     if (rc == 0 && t->sched.any_failed) {
         snprintf(err, errlen,
-                 "%llu rays overflowed their %u-entry traversal stack: the stack is too small for this scene "
+                 "%.0f rays overflowed their %u-entry traversal stack: the stack is too small for this scene "
                  "(raise trv.stack_depth, allowed 1..4096)",
-                 (unsigned long long)t->sched.failed, t->p.trv.core.stack_depth);
-        snprintf(t->failure, sizeof t->failure, "%llu rays overflowed their stack",
-                 (unsigned long long)t->sched.failed);
+                 stat_named(t->stats, "sched.failed"), t->p.trv.core.stack_depth);
+        snprintf(t->failure, sizeof t->failure, "%.0f rays overflowed their stack", stat_named(t->stats, "sched.failed"));
         rc = 1;
     }
     t->stat_failed = rc != 0 && !ks_interrupted();   /* interrupted: partial, not failed */
@@ -694,6 +706,9 @@ ks_stats *accel_top_stats(accel_top *t) { return t->stats; }
 const accel_params *accel_top_params(const accel_top *t) { return &t->p; }
 uint64_t accel_top_guard_cycle(const accel_top *t) { return t->guard_cycle; }
 
+/* 100 x part / whole, 0 when whole is 0. */
+static double percent(double part, double whole) { return whole ? 100.0 * part / whole : 0.0; }
+
 void accel_top_print_summary(accel_top *t, FILE *out)
 {
     fprintf(out, "machine     %d-wide, %u TRV x %u slots, 1 IST, %.0f MHz\n", t->p.width, t->p.trv_count,
@@ -705,35 +720,33 @@ void accel_top_print_summary(accel_top *t, FILE *out)
         fprintf(out, "guard       livelock guard engaged at cycle %llu: rays thrashed a node L1 and took turns from "
                      "then on (docs/accel.md)\n",
                 (unsigned long long)t->guard_cycle);
-    fprintf(out, "cycles      %llu\n", (unsigned long long)t->cycles);
-    fprintf(out, "rays        %llu (%llu primary, %llu bounce)\n", (unsigned long long)t->rays_done,
-            (unsigned long long)t->sched.primaries, (unsigned long long)t->sched.bounces);
-    if (t->sched.src.occlusion)
-        fprintf(out, "occlusion   %llu rays, %llu occluded\n", (unsigned long long)t->sched.occlusion_rays,
-                (unsigned long long)t->sched.occluded);
-    fprintf(out, "MRPS        %.2f at %.0f MHz\n", t->mrps, t->p.clock_mhz);
-    fprintf(out, "in flight   %.1f rays mean, %llu max; latency %.0f cycles mean\n", t->stat_in_flight,
-            (unsigned long long)t->sched.max_in_flight,
-            t->sched.completed ? (double)t->sched.latency_sum / (double)t->sched.completed : 0.0);
+    /* the figures from the statistics registry, as the JSON has them */
+    const ks_stats *st = t->stats;
+    double cycles = stat_named(st, "cycles"), hits = 0, accesses = 0;
+    fprintf(out, "cycles      %.0f\n", cycles);
+    fprintf(out, "rays        %.0f (%.0f primary, %.0f bounce)\n", stat_named(st, "rays"),
+            stat_named(st, "sched.primaries"), stat_named(st, "sched.bounces"));
+    double occlusion_rays;
+    if (ks_stats_value(st, "sched.occlusion_rays", &occlusion_rays) == 0)   /* registered in occlusion runs only */
+        fprintf(out, "occlusion   %.0f rays, %.0f occluded\n", occlusion_rays, stat_named(st, "sched.occluded"));
+    fprintf(out, "MRPS        %.2f at %.0f MHz\n", stat_named(st, "mrps"), t->p.clock_mhz);
+    fprintf(out, "in flight   %.1f rays mean, %.0f max; latency %.0f cycles mean\n", stat_named(st, "rays_in_flight_mean"),
+            stat_named(st, "sched.max_in_flight"), stat_named(st, "sched.latency_mean"));
     fprintf(out, "utilization");
     for (uint32_t i = 0; i < t->p.trv_count; i++)
-        fprintf(out, " trv%u %.1f%%", i, t->cycles ? 100.0 * (double)t->trv[i].busy_cycles / (double)t->cycles : 0.0);
-    fprintf(out, " ist %.1f%%\n", t->cycles ? 100.0 * (double)t->ist.busy_cycles / (double)t->cycles : 0.0);
-    cache_stats cs, sum = {0};
+        fprintf(out, " trv%u %.1f%%", i, percent(stat_named(st, "%s.busy_cycles", t->names[i]), cycles));
+    fprintf(out, " ist %.1f%%\n", percent(stat_named(st, "ist.busy_cycles"), cycles));
     for (uint32_t i = 0; i < t->p.trv_count; i++) {
-        cache_get_stats(memsys_node_l1(t->mem, (int)i), &cs);
-        sum.accesses += cs.accesses, sum.hits += cs.hits;
+        hits += stat_named(st, "node_l1_%u.hits", i);
+        accesses += stat_named(st, "node_l1_%u.accesses", i);
     }
-    fprintf(out, "caches      node L1 %.2f%% hits (%llu accesses)", sum.accesses ? 100.0 * (double)sum.hits / (double)sum.accesses : 0.0,
-            (unsigned long long)sum.accesses);
-    cache_get_stats(memsys_node_l2(t->mem), &cs);
-    fprintf(out, ", node L2 %.2f%% (%llu)", cs.accesses ? 100.0 * (double)cs.hits / (double)cs.accesses : 0.0,
-            (unsigned long long)cs.accesses);
-    cache_get_stats(memsys_prim(t->mem), &cs);
-    fprintf(out, ", prim %.2f%% (%llu)\n", cs.accesses ? 100.0 * (double)cs.hits / (double)cs.accesses : 0.0,
-            (unsigned long long)cs.accesses);
-    fprintf(out, "DRAM        %.2f MB, %.2f GB/s (%s memory)\n", (double)t->stat_dram_bytes / 1e6, t->stat_dram_gbs,
-            memsys_memory_model(t->mem) == MEMSYS_LPDDR3 ? "LPDDR3" : "fixed-latency");
+    fprintf(out, "caches      node L1 %.2f%% hits (%.0f accesses)", percent(hits, accesses), accesses);
+    accesses = stat_named(st, "node_l2.accesses");
+    fprintf(out, ", node L2 %.2f%% (%.0f)", percent(stat_named(st, "node_l2.hits"), accesses), accesses);
+    accesses = stat_named(st, "prim.accesses");
+    fprintf(out, ", prim %.2f%% (%.0f)\n", percent(stat_named(st, "prim.hits"), accesses), accesses);
+    fprintf(out, "DRAM        %.2f MB, %.2f GB/s (%s memory)\n", stat_named(st, "dram_bytes") / 1e6,
+            stat_named(st, "dram_bandwidth_gbs"), memsys_memory_model(t->mem) == MEMSYS_LPDDR3 ? "LPDDR3" : "fixed-latency");
     if (t->energy)
         energy_print_summary(t->energy, out);
 }
@@ -747,66 +760,49 @@ static uint32_t ring_suggest(const pipe_ring *r)
     return s;
 }
 
+/* The first power of two above the largest occupancy seen by instance i
+ * of ray-side FIFO r (a kernel FIFO or a unit's ring). */
+static uint32_t ray_fifo_suggestion(const accel_top *t, int r, uint32_t i)
+{
+    return t->fifo[r][i] ? ks_fifo_suggested_capacity(t->fifo[r][i]) : ring_suggest(t->ring[r][i]);
+}
+
 int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen)
 {
-    static const char *const suffix[] = {".new", ".leaf", ".return", ".done", ".loop", ".loop"};
-    for (unsigned k = 0; k < accel_fifo_key_count(); k++) {
-        uint32_t want = 1;
-        bool any = false;
-        for (uint32_t i = 0; i < ks_sim_fifo_count(t->sim); i++) {
-            ks_fifo *f = ks_sim_fifo_at(t->sim, i);
-            const char *nm = ks_fifo_name(f);
-            size_t ln = strlen(nm), ls = strlen(suffix[k]);
-            if (ln < ls || strcmp(nm + ln - ls, suffix[k]))
-                continue;
-            bool is_ist = strncmp(nm, "ist", 3) == 0;
-            if ((k == 4 && is_ist) || (k == 5 && !is_ist))
-                continue;
-            any = true;
-            uint32_t s = ks_fifo_suggested_capacity(f);
-            if (s > want)
-                want = s;
-        }
-        /* the loop FIFOs are unit-internal rings */
-        if (k == 4)
-            for (uint32_t i = 0; i < t->p.trv_count; i++, any = true)
-                want = ring_suggest(&t->trv[i].loop) > want ? ring_suggest(&t->trv[i].loop) : want;
-        if (k == 5) {
-            any = true;
-            want = ring_suggest(&t->ist.loop) > want ? ring_suggest(&t->ist.loop) : want;
-        }
-        /* never below the deadlock-free minimum (accel_config.h): what one
-         * frame needed says nothing about a larger one (issue 15: a machine
-         * sized on 8x4 deadlocked at 64x36) */
-        if (want < accel_fifo_min(cfg, k))
-            want = accel_fifo_min(cfg, k);
-        if (any && rtcfg_set_int(cfg, accel_fifo_key(k), want, err, errlen))
+    /* ray side: the largest suggestion among the FIFOs of each key, but
+     * never below the deadlock-free minimum (accel_config.h): what one frame
+     * needed says nothing about a larger one (issue 15: a machine sized on
+     * 8x4 deadlocked at 64x36) */
+    for (int r = 0; r < ACCEL_FIFO_COUNT; r++) {
+        uint32_t want = accel_fifo_min(cfg, (accel_fifo_id)r);
+        for (uint32_t i = 0; i < ray_fifo_instances(t, &accel_ray_fifos[r]); i++)
+            if (ray_fifo_suggestion(t, r, i) > want)
+                want = ray_fifo_suggestion(t, r, i);
+        if (rtcfg_set_int(cfg, accel_ray_fifos[r].key, want, err, errlen))
             return -1;
     }
     /* leaf + return: split the safe sum evenly where the sizes fall short */
-    int64_t leaf = rtcfg_int(cfg, "fifo.ray_leaf"), ret = rtcfg_int(cfg, "fifo.ray_return");
+    const char *leaf_key = accel_ray_fifos[ACCEL_FIFO_LEAF].key, *ret_key = accel_ray_fifos[ACCEL_FIFO_RETURN].key;
+    int64_t leaf = rtcfg_int(cfg, leaf_key), ret = rtcfg_int(cfg, ret_key);
     int64_t need = (int64_t)accel_leaf_return_min(cfg);
     if (leaf + ret < need) {
         if (leaf < (need + 1) / 2)
             leaf = (need + 1) / 2;
         if (ret < need - leaf)
             ret = need - leaf;
-        if (rtcfg_set_int(cfg, "fifo.ray_leaf", leaf, err, errlen) ||
-            rtcfg_set_int(cfg, "fifo.ray_return", ret, err, errlen))
+        if (rtcfg_set_int(cfg, leaf_key, leaf, err, errlen) || rtcfg_set_int(cfg, ret_key, ret, err, errlen))
             return -1;
     }
     /* memory side: the largest suggestion among the FIFOs of each key */
     int n = memsys_fifo_count(t->mem);
     for (int i = 0; i < n; i++) {
         const char *key = NULL;
-        ks_fifo *f = memsys_fifo_at(t->mem, i, &key);
-        if (!key)
-            continue;
+        ks_fifo *f = memsys_fifo_at(t->mem, i, &key, NULL);
         uint32_t want = ks_fifo_suggested_capacity(f);
         for (int j = 0; j < n; j++) {
             const char *kj = NULL;
-            ks_fifo *g = memsys_fifo_at(t->mem, j, &kj);
-            if (kj && !strcmp(kj, key) && ks_fifo_suggested_capacity(g) > want)
+            ks_fifo *g = memsys_fifo_at(t->mem, j, &kj, NULL);
+            if (!strcmp(kj, key) && ks_fifo_suggested_capacity(g) > want)
                 want = ks_fifo_suggested_capacity(g);
         }
         if (rtcfg_set_int(cfg, key, want, err, errlen))

@@ -279,7 +279,7 @@ static void steer_config(drawn_config *c)
         return;
     for (int i = 0; i < c->n; i++)
         rtcfg_set(cfg, c->sets[i], err, sizeof err);
-    uint32_t loop = accel_fifo_min(cfg, 4), lr = accel_leaf_return_min(cfg);
+    uint32_t loop = accel_fifo_min(cfg, ACCEL_FIFO_TRV_LOOP), lr = accel_leaf_return_min(cfg);
     if (set_num(c, "fifo.ray_trv_loop", 32) < loop)
         replace_set(c, "fifo.ray_trv_loop", loop + (long long)rng_below(3));
     double leaf = set_num(c, "fifo.ray_leaf", 32), ret = set_num(c, "fifo.ray_return", 32);

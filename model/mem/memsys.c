@@ -25,13 +25,16 @@ struct memsys {
     dram_port *port;
     mem_dram_adapter *adapter;
     memsys_model model;
+    /* every FIFO, with the configuration key of its capacity and the line
+     * bytes an item carries (0: a request) */
     ks_fifo *fifo[MEMSYS_MAX_FIFOS];
     const char *fifo_key[MEMSYS_MAX_FIFOS];
+    uint32_t fifo_line[MEMSYS_MAX_FIFOS];
     int nfifo;
 };
 
 static ks_fifo *mk_fifo(memsys *ms, ks_sim *sim, ks_clock *clk, const rtcfg *cfg, const char *name, const char *key,
-                        size_t elem, char *err, size_t errlen)
+                        size_t elem, uint32_t line, char *err, size_t errlen)
 {
     uint32_t depth = (uint32_t)rtcfg_int(cfg, key), lat = (uint32_t)rtcfg_int(cfg, "fifo.mem_latency");
     ks_fifo *f = ks_fifo_create(sim, name, elem, depth, lat, clk);
@@ -40,7 +43,8 @@ static ks_fifo *mk_fifo(memsys *ms, ks_sim *sim, ks_clock *clk, const rtcfg *cfg
         return NULL;
     }
     ms->fifo[ms->nfifo] = f;
-    ms->fifo_key[ms->nfifo++] = key;
+    ms->fifo_key[ms->nfifo] = key;
+    ms->fifo_line[ms->nfifo++] = line;
     return f;
 }
 
@@ -100,9 +104,12 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
     char name[64];
     ks_fifo *l1_miss[MEMSYS_MAX_TRV], *l1_fill[MEMSYS_MAX_TRV];
 
-#define FIFO(var, nm, key, type)                                                                                       \
+    /* what a FIFO's item carries: a request, or a line of the cache it fills
+     * (the memory's responses fill the node L2 and the primitive cache) */
+    uint32_t mem_line = p2.line_bytes > pp.line_bytes ? p2.line_bytes : pp.line_bytes;
+#define FIFO(var, nm, key, type, line)                                                                                 \
     do {                                                                                                               \
-        if (!((var) = mk_fifo(ms, sim, clk, cfg, (nm), (key), sizeof(type), err, errlen)))                            \
+        if (!((var) = mk_fifo(ms, sim, clk, cfg, (nm), (key), sizeof(type), (line), err, errlen)))                    \
             goto fail;                                                                                                 \
     } while (0)
 
@@ -111,20 +118,20 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
         if (!(ms->l1[i] = cache_unit_create(sim, clk, name, &p1, err, errlen)))
             goto fail;
         snprintf(name, sizeof name, "node_l1_%d.miss", i);
-        FIFO(l1_miss[i], name, "fifo.mem_l1_miss", mem_req);
+        FIFO(l1_miss[i], name, "fifo.mem_l1_miss", mem_req, 0);
         snprintf(name, sizeof name, "node_l1_%d.fill", i);
-        FIFO(l1_fill[i], name, "fifo.mem_l1_fill", mem_resp);
+        FIFO(l1_fill[i], name, "fifo.mem_l1_fill", mem_resp, p1.line_bytes);
         cache_unit_connect(ms->l1[i], l1_miss[i], l1_fill[i], NULL, NULL);
     }
     ks_fifo *l2_req, *l2_resp, *l2_miss, *l2_fill, *prim_miss, *prim_fill, *mem_req_f, *mem_resp_f;
-    FIFO(l2_req, "node_l2.req", "fifo.mem_l2_req", mem_req);
-    FIFO(l2_resp, "node_l2.resp", "fifo.mem_l2_resp", mem_resp);
-    FIFO(l2_miss, "node_l2.miss", "fifo.mem_l2_miss", mem_req);
-    FIFO(l2_fill, "node_l2.fill", "fifo.mem_l2_fill", mem_resp);
-    FIFO(prim_miss, "prim.miss", "fifo.mem_prim_miss", mem_req);
-    FIFO(prim_fill, "prim.fill", "fifo.mem_prim_fill", mem_resp);
-    FIFO(mem_req_f, "memory.req", "fifo.mem_req", mem_req);
-    FIFO(mem_resp_f, "memory.resp", "fifo.mem_resp", mem_resp);
+    FIFO(l2_req, "node_l2.req", "fifo.mem_l2_req", mem_req, 0);
+    FIFO(l2_resp, "node_l2.resp", "fifo.mem_l2_resp", mem_resp, p1.line_bytes);   /* an L1 line */
+    FIFO(l2_miss, "node_l2.miss", "fifo.mem_l2_miss", mem_req, 0);
+    FIFO(l2_fill, "node_l2.fill", "fifo.mem_l2_fill", mem_resp, p2.line_bytes);
+    FIFO(prim_miss, "prim.miss", "fifo.mem_prim_miss", mem_req, 0);
+    FIFO(prim_fill, "prim.fill", "fifo.mem_prim_fill", mem_resp, pp.line_bytes);
+    FIFO(mem_req_f, "memory.req", "fifo.mem_req", mem_req, 0);
+    FIFO(mem_resp_f, "memory.resp", "fifo.mem_resp", mem_resp, mem_line);
     if (!(ms->l2_arb = mem_arbiter_create(sim, clk, "l2_arbiter", ntrv, l1_miss, l1_fill, l2_req, l2_resp, err, errlen)))
         goto fail;
     if (!(ms->l2 = cache_unit_create(sim, clk, "node_l2", &p2, err, errlen)))
@@ -165,8 +172,8 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
             }
         }
         ks_fifo *dreq, *dresp;
-        FIFO(dreq, "dram.req", "fifo.mem_dram_req", dram_port_req);
-        FIFO(dresp, "dram.resp", "fifo.mem_dram_resp", dram_port_resp);
+        FIFO(dreq, "dram.req", "fifo.mem_dram_req", dram_port_req, 0);
+        FIFO(dresp, "dram.resp", "fifo.mem_dram_resp", dram_port_resp, mem_line);
         if (!(ms->adapter = mem_dram_adapter_create(sim, clk, "memory", outstanding, mem_req_f, mem_resp_f, dreq, dresp,
                                                     err, errlen)))
             goto fail;
@@ -258,12 +265,14 @@ dram_port *memsys_dram_port(memsys *ms) { return ms->port; }
 const dram_spec *memsys_dram_spec(const memsys *ms) { return ms->spec; }
 
 int memsys_fifo_count(const memsys *ms) { return ms->nfifo; }
-ks_fifo *memsys_fifo_at(const memsys *ms, int i, const char **key)
+ks_fifo *memsys_fifo_at(const memsys *ms, int i, const char **key, uint32_t *line_bytes)
 {
     if (i < 0 || i >= ms->nfifo)
         return NULL;
     if (key)
         *key = ms->fifo_key[i];
+    if (line_bytes)
+        *line_bytes = ms->fifo_line[i];
     return ms->fifo[i];
 }
 

@@ -20,7 +20,9 @@
  *    CACHE_MISS = retry later (the line is on its way), CACHE_BLOCKED = retry.
  *    The *_filled events fire after each fill of that cache (to wake sleepers).
  *  - memsys_fifo_at lists every FIFO with its configuration key (FIFO
- *    auto-sizing: set the key to ks_fifo_suggested_capacity and rewrite).
+ *    auto-sizing: set the key to ks_fifo_suggested_capacity and rewrite)
+ *    and the line bytes its items carry (a fill or response: the line of
+ *    the cache it fills; 0 for a request), for the energy model.
  *  - Destroy the memsys before the sim (the sim owns the FIFOs/processes). */
 #ifndef RTSIM_MODEL_MEMSYS_H
 #define RTSIM_MODEL_MEMSYS_H
@@ -69,7 +71,7 @@ struct dram_spec;
 const struct dram_spec *memsys_dram_spec(const memsys *ms);
 
 int memsys_fifo_count(const memsys *ms);
-ks_fifo *memsys_fifo_at(const memsys *ms, int i, const char **config_key);
+ks_fifo *memsys_fifo_at(const memsys *ms, int i, const char **config_key, uint32_t *line_bytes);
 
 /* Description tables of the memory-side modules for --help-module: by module
  * name ("cache", "arbiter", "fixed_mem", "dram_adapter", "dram") or by

@@ -34,9 +34,9 @@ struct accel_top {
     ks_stats *stats;
     ks_vcd *vcd;
     accel_ray *rays;
-    sched_unit sched;
-    trv_unit *trv;
-    ist_unit ist;
+    sched_unit *sched;
+    trv_unit **trv;
+    ist_unit *ist;
     memsys *mem;
     energy_model *energy;
     /* the ray side's FIFOs, per row of accel_ray_fifos (accel_config.h) and
@@ -91,7 +91,7 @@ static int build_ray_fifos(accel_top *t, const rtcfg *cfg, char *err, size_t err
         }
     }
     for (uint32_t i = 0; i < t->p.trv_count; i++) {
-        t->ring[ACCEL_FIFO_TRV_LOOP][i] = &t->trv[i].loop;
+        t->ring[ACCEL_FIFO_TRV_LOOP][i] = &t->trv[i]->loop;
         for (int r = 0; r < ACCEL_FIFO_COUNT; r++) {
             const accel_fifo_desc *d = &accel_ray_fifos[r];
             if (d->ring || i >= ray_fifo_instances(t, d))
@@ -109,7 +109,7 @@ static int build_ray_fifos(accel_top *t, const rtcfg *cfg, char *err, size_t err
             }
         }
     }
-    t->ring[ACCEL_FIFO_IST_LOOP][0] = &t->ist.loop;
+    t->ring[ACCEL_FIFO_IST_LOOP][0] = &t->ist->loop;
     return 0;
 }
 
@@ -428,20 +428,22 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     ks_sim_set_deadlock_cycles(t->sim, t->deadlock_window);
     /* units, in the order they are stepped each cycle: consumers of a FIFO
      * see its items at the ready time whatever the order (latency >= 1) */
-    if (!sched_init(&t->sched, "sched", &t->p.sched, src, t->rays, ntrv, slots, t->clk, err, (unsigned)errlen)) {
+    if (!(t->sched = sched_create("sched", &t->p.sched, src, t->rays, ntrv, slots, t->clk, err, (unsigned)errlen))) {
         accel_top_destroy(t);
         return NULL;
     }
     for (uint32_t i = 0; i < ntrv; i++) {
         snprintf(t->names[i], sizeof t->names[i], "trv%u", i);
-        if (!trv_init(&t->trv[i], i, t->names[i], &t->p.trv, &t->img, t->rays, t->sim, t->clk,
-                      (uint32_t)rtcfg_int(cfg, accel_ray_fifos[ACCEL_FIFO_TRV_LOOP].key), err, (unsigned)errlen)) {
+        if (!(t->trv[i] = trv_create(i, t->names[i], &t->p.trv, &t->img, t->rays, t->sim, t->clk,
+                                     (uint32_t)rtcfg_int(cfg, accel_ray_fifos[ACCEL_FIFO_TRV_LOOP].key), err,
+                                     (unsigned)errlen))) {
             accel_top_destroy(t);
             return NULL;
         }
     }
-    if (!ist_init(&t->ist, "ist", &t->p.ist, &t->img, t->rays, t->sim, t->clk,
-                  (uint32_t)rtcfg_int(cfg, accel_ray_fifos[ACCEL_FIFO_IST_LOOP].key), 0, err, (unsigned)errlen)) {
+    if (!(t->ist = ist_create("ist", &t->p.ist, &t->img, t->rays, t->sim, t->clk,
+                              (uint32_t)rtcfg_int(cfg, accel_ray_fifos[ACCEL_FIFO_IST_LOOP].key), 0, err,
+                              (unsigned)errlen))) {
         accel_top_destroy(t);
         return NULL;
     }
@@ -450,22 +452,22 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     ks_fifo **f_new = t->fifo[ACCEL_FIFO_NEW], **f_leaf = t->fifo[ACCEL_FIFO_LEAF],
             **f_ret = t->fifo[ACCEL_FIFO_RETURN], **f_done = t->fifo[ACCEL_FIFO_DONE];
     for (uint32_t i = 0; i < ntrv; i++) {
-        trv_bind(&t->trv[i], f_new[i], f_ret[i], f_leaf[i], f_done[i]);
+        trv_connect(t->trv[i], f_new[i], f_ret[i], f_leaf[i], f_done[i]);
         if (opts->events)
-            trv_set_events(&t->trv[i], opts->events, opts->events_user);
+            trv_set_events(t->trv[i], opts->events, opts->events_user);
     }
-    sched_bind(&t->sched, f_new, f_done);
-    ist_bind(&t->ist, ntrv, f_leaf, f_ret);
+    sched_connect(t->sched, f_new, f_done);
+    ist_connect(t->ist, ntrv, f_leaf, f_ret);
     if (opts->events)
-        ist_set_events(&t->ist, opts->events, opts->events_user);
+        ist_set_events(t->ist, opts->events, opts->events_user);
 
     for (uint32_t i = 0; i < ntrv; i++) {
-        trv_set_probe(&t->trv[i], cache_probe, memsys_node_l1(t->mem, (int)i));
-        t->trv[i].core.present = cache_present;
-        ks_clocked_wake_on(t->trv[i].proc, memsys_node_l1_filled(t->mem, (int)i));
+        trv_set_probe(t->trv[i], cache_probe, memsys_node_l1(t->mem, (int)i));
+        t->trv[i]->core.present = cache_present;
+        ks_clocked_wake_on(t->trv[i]->proc, memsys_node_l1_filled(t->mem, (int)i));
     }
-    ist_set_probe(&t->ist, cache_probe, memsys_prim(t->mem));
-    ks_clocked_wake_on(t->ist.proc, memsys_prim_filled(t->mem));
+    ist_set_probe(t->ist, cache_probe, memsys_prim(t->mem));
+    ks_clocked_wake_on(t->ist->proc, memsys_prim_filled(t->mem));
     if (opts->exhaustive) {
         ks_clock_set_exhaustive(t->clk, 1);
         if (memsys_dram_port(t->mem))
@@ -483,13 +485,13 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     rc |= ks_stat_decl_counter(t->stats, top, NULL, "dram_bytes", &t->stat_dram_bytes);
     rc |= ks_stat_decl_real(t->stats, top, NULL, "dram_bandwidth_gbs", &t->stat_dram_gbs);
     rc |= ks_stat_decl_real(t->stats, top, NULL, "rays_in_flight_mean", &t->stat_in_flight);
-    rc |= sched_register(&t->sched, "sched", t->stats, t->vcd);
+    rc |= sched_register(t->sched, "sched", t->stats, t->vcd);
     for (uint32_t i = 0; i < ntrv; i++) {
-        rc |= trv_register(&t->trv[i], t->names[i], t->stats, t->vcd);
-        rc |= register_util(t->stats, &trv_module_desc, t->names[i], &t->trv[i].busy_cycles);
+        rc |= trv_register(t->trv[i], t->names[i], t->stats, t->vcd);
+        rc |= register_util(t->stats, &trv_module_desc, t->names[i], &t->trv[i]->busy_cycles);
     }
-    rc |= ist_register(&t->ist, "ist", t->stats, t->vcd);
-    rc |= register_util(t->stats, &ist_module_desc, "ist", &t->ist.busy_cycles);
+    rc |= ist_register(t->ist, "ist", t->stats, t->vcd);
+    rc |= register_util(t->stats, &ist_module_desc, "ist", &t->ist->busy_cycles);
     if (rc) {
         snprintf(err, errlen, "statistics: %s", ks_stats_error(t->stats));
         goto fail;
@@ -523,11 +525,11 @@ void accel_top_destroy(accel_top *t)
     energy_model_destroy(t->energy);
     if (t->trv)
         for (uint32_t i = 0; i < t->p.trv_count; i++)
-            trv_free(&t->trv[i]);
+            trv_destroy(t->trv[i]);
     if (t->mem)
         memsys_destroy(t->mem);
-    sched_free(&t->sched);
-    ist_free(&t->ist);
+    sched_destroy(t->sched);
+    ist_destroy(t->ist);
     if (t->sim)
         ks_sim_destroy(t->sim);
     if (t->stats)
@@ -546,8 +548,8 @@ void accel_top_destroy(accel_top *t)
  * statistics cover the cycles simulated until then. */
 static void finish_stats(accel_top *t, uint64_t stop_cycle)
 {
-    t->rays_done = t->sched.completed;
-    t->cycles = t->rays_done ? t->sched.last_complete_cycle + 1 : 0;
+    t->rays_done = t->sched->completed;
+    t->cycles = t->rays_done ? t->sched->last_complete_cycle + 1 : 0;
     if (stop_cycle > t->cycles)
         t->cycles = stop_cycle;
     t->seconds = (double)t->cycles / (t->p.clock_mhz * 1e6);
@@ -561,7 +563,7 @@ static void finish_stats(accel_top *t, uint64_t stop_cycle)
         dram_port_set_stats_end(memsys_dram_port(t->mem), (ks_time)t->cycles * ks_clock_period(t->clk));
     t->stat_dram_bytes = t->mem ? memsys_memory_bytes(t->mem) : 0;
     t->stat_dram_gbs = t->seconds > 0 ? (double)t->stat_dram_bytes / t->seconds / 1e9 : 0.0;
-    t->stat_in_flight = sched_mean_in_flight(&t->sched, t->cycles);
+    t->stat_in_flight = sched_mean_in_flight(t->sched, t->cycles);
     if (t->energy)
         compute_energy(t);
 }
@@ -571,26 +573,26 @@ static void describe_units(accel_top *t, uint64_t now, char *err, size_t errlen,
 {
     char line[512];
     for (uint32_t i = 0; i < t->p.trv_count && n >= 0 && (size_t)n < errlen; i++) {
-        if (!t->trv[i].rays_in_unit)
+        if (!t->trv[i]->rays_in_unit)
             continue;
         cache_describe(memsys_node_l1(t->mem, (int)i), (int64_t)now, line, sizeof line);
         n += snprintf(err + n, errlen - (size_t)n, "\n  trv%u: %llu rays held; node L1: %s", i,
-                      (unsigned long long)t->trv[i].rays_in_unit, line);
+                      (unsigned long long)t->trv[i]->rays_in_unit, line);
         for (uint32_t k = 0; k < t->p.trv.core.slots && (size_t)n < errlen; k++) {
             const accel_ray *r = &t->rays[i * t->p.trv.core.slots + k];
             bool held = false;
-            for (uint32_t j = 0; j < t->sched.nfree[i]; j++)
-                held |= t->sched.free_slots[(size_t)i * t->sched.slots + j] == k;
+            for (uint32_t j = 0; j < t->sched->nfree[i]; j++)
+                held |= t->sched->free_slots[(size_t)i * t->sched->slots + j] == k;
             if (held)
                 continue;   /* a free slot */
             n += snprintf(err + n, errlen - (size_t)n, "\n    ray %u (pixel %u bounce %u): phase %d target %u/%u, %u loops",
                           r->uid, r->pixel, r->bounce, r->phase, r->target_ref, r->target_meta, r->loops);
         }
     }
-    if (t->ist.rays_in_unit && n >= 0 && (size_t)n < errlen) {
+    if (t->ist->rays_in_unit && n >= 0 && (size_t)n < errlen) {
         cache_describe(memsys_prim(t->mem), (int64_t)now, line, sizeof line);
         n += snprintf(err + n, errlen - (size_t)n, "\n  ist: %llu rays held; primitive cache: %s",
-                      (unsigned long long)t->ist.rays_in_unit, line);
+                      (unsigned long long)t->ist->rays_in_unit, line);
     }
     if (n >= 0 && (size_t)n < errlen) {
         cache_describe(memsys_node_l2(t->mem), (int64_t)now, line, sizeof line);
@@ -603,9 +605,9 @@ static void describe_units(accel_top *t, uint64_t now, char *err, size_t errlen,
  * completed rays. A run where it stops growing is stuck (livelock). */
 static uint64_t committed_work(const accel_top *t)
 {
-    uint64_t w = t->sched.completed + t->ist.core.st.tests;
+    uint64_t w = t->sched->completed + t->ist->core.st.tests;
     for (uint32_t i = 0; i < t->p.trv_count; i++)
-        w += t->trv[i].core.st.visits;
+        w += t->trv[i]->core.st.visits;
     return w;
 }
 
@@ -619,7 +621,7 @@ int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *er
         ks_run_status st = ks_sim_run(t->sim, (ks_time)slice_end * period);
         now_cycle = (uint64_t)(ks_sim_now(t->sim) / period);
         if (progress)
-            progress(user, now_cycle, t->sched.completed, t->sched.admitted);
+            progress(user, now_cycle, t->sched->completed, t->sched->admitted);
         if (ks_interrupted()) {
             /* Ctrl-C/SIGTERM (kernel/interrupt.h): stop between two slices,
              * so the VCD ends at a complete time step */
@@ -636,10 +638,10 @@ int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *er
             rc = 1;
             break;
         }
-        if (sched_finished(&t->sched) || st == KS_RUN_FINISHED) {
-            if (!sched_finished(&t->sched)) {
+        if (sched_finished(t->sched) || st == KS_RUN_FINISHED) {
+            if (!sched_finished(t->sched)) {
                 snprintf(err, errlen, "simulation ran dry at cycle %llu with %llu rays in flight:\n%s",
-                         (unsigned long long)now_cycle, (unsigned long long)t->sched.in_flight,
+                         (unsigned long long)now_cycle, (unsigned long long)t->sched->in_flight,
                          ks_sim_deadlock_report(t->sim));
                 snprintf(t->failure, sizeof t->failure, "ran dry at cycle %llu", (unsigned long long)now_cycle);
                 rc = 1;
@@ -651,27 +653,27 @@ int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *er
             last_work = work;
             last_work_cycle = now_cycle;
         }
-        if (t->sched.last_complete_cycle > last_work_cycle)
-            last_work_cycle = t->sched.last_complete_cycle;
+        if (t->sched->last_complete_cycle > last_work_cycle)
+            last_work_cycle = t->sched->last_complete_cycle;
         /* Half-way to the watchdog, engage the TRVs' forward-progress guard
          * (trv_core.h): rays that thrash a node L1 (their fills evicting
          * each other's lines before they look again) then take turns. A
          * run that never starves never engages it, so its figures are the
          * plain model's; one that does says so in its summary. */
-        if (t->livelock_window && !t->guard_cycle && t->sched.in_flight &&
+        if (t->livelock_window && !t->guard_cycle && t->sched->in_flight &&
             now_cycle > last_work_cycle + t->livelock_window / 2) {
             t->guard_cycle = now_cycle;
             for (uint32_t i = 0; i < t->p.trv_count; i++)
-                t->trv[i].core.guard = true;
+                t->trv[i]->core.guard = true;
         }
-        if (t->livelock_window && t->sched.in_flight && now_cycle > last_work_cycle + t->livelock_window) {
+        if (t->livelock_window && t->sched->in_flight && now_cycle > last_work_cycle + t->livelock_window) {
             int n = snprintf(err, errlen,
                              "no node visit, triangle test or completed ray for %llu cycles (sched.watchdog_cycles = "
                              "%llu + the machine's longest wait %llu) at cycle %llu with %llu rays in flight "
                              "(livelock: rays keep looping):",
                              (unsigned long long)(now_cycle - last_work_cycle),
                              (unsigned long long)t->p.sched.watchdog_cycles, (unsigned long long)t->longest_wait,
-                             (unsigned long long)now_cycle, (unsigned long long)t->sched.in_flight);
+                             (unsigned long long)now_cycle, (unsigned long long)t->sched->in_flight);
             describe_units(t, now_cycle, err, errlen, n);
             snprintf(t->failure, sizeof t->failure, "livelock (no ray completed) at cycle %llu",
                      (unsigned long long)now_cycle);
@@ -680,7 +682,7 @@ int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *er
         }
     }
     finish_stats(t, rc ? now_cycle : 0);
-    if (rc == 0 && t->sched.any_failed) {
+    if (rc == 0 && t->sched->any_failed) {
         snprintf(err, errlen,
                  "%.0f rays overflowed their %u-entry traversal stack: the stack is too small for this scene "
                  "(raise trv.stack_depth, allowed 1..4096)",

@@ -2,6 +2,7 @@
 #include "model/ray/ist.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* The unit's parameters: the keys of its configuration section, written
@@ -57,7 +58,7 @@ static void ist_describe(void *user, char *buf, unsigned cap)
         n += snprintf(buf + n, cap - (unsigned)n, " %u/%u", ks_fifo_occupancy(u->out[i]), ks_fifo_capacity(u->out[i]));
 }
 
-bool ist_init(ist_unit *u, const char *name, const ist_params *p, const accel_image *img, accel_ray *rays,
+static bool ist_setup(ist_unit *u, const char *name, const ist_params *p, const accel_image *img, accel_ray *rays,
               ks_sim *sim, ks_clock *clk, uint32_t loop_capacity, uint32_t pipe_capacity, char *err, unsigned errlen)
 {
     memset(u, 0, sizeof *u);
@@ -89,7 +90,7 @@ bool ist_init(ist_unit *u, const char *name, const ist_params *p, const accel_im
     return true;
 }
 
-void ist_bind(ist_unit *u, uint32_t ntrv, ks_fifo **in, ks_fifo **out)
+void ist_connect(ist_unit *u, uint32_t ntrv, ks_fifo **in, ks_fifo **out)
 {
     u->ntrv = ntrv;
     for (uint32_t i = 0; i < ntrv; i++) {
@@ -256,9 +257,32 @@ static int ist_step(void *user, uint64_t cycle)
     return u->vcd ? ist_step_body(u, cycle, true) : ist_step_body(u, cycle, false);
 }
 
-void ist_free(ist_unit *u)
+static void ist_teardown(ist_unit *u)
 {
     pipe_ring_free(&u->pipe);
     pipe_ring_free(&u->loop);
     pipe_trace_free(&u->stage_rays);
+}
+
+ist_unit *ist_create(const char *name, const ist_params *p, const accel_image *img, accel_ray *rays, ks_sim *sim,
+                     ks_clock *clk, uint32_t loop_capacity, uint32_t pipe_capacity, char *err, unsigned errlen)
+{
+    ist_unit *u = calloc(1, sizeof *u);
+    if (!u) {
+        snprintf(err, errlen, "ist: out of memory");
+        return NULL;
+    }
+    if (!ist_setup(u, name, p, img, rays, sim, clk, loop_capacity, pipe_capacity, err, errlen)) {
+        free(u);
+        return NULL;
+    }
+    return u;
+}
+
+void ist_destroy(ist_unit *u)
+{
+    if (!u)
+        return;
+    ist_teardown(u);
+    free(u);
 }

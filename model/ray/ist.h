@@ -54,11 +54,13 @@ typedef struct ist_unit {
 extern const rtcfg_schema ist_schema;
 extern const ks_module_desc ist_module_desc;
 
-void ist_free(ist_unit *u);
-bool ist_init(ist_unit *u, const char *name, const ist_params *p, const accel_image *img, accel_ray *rays,
-              ks_sim *sim, ks_clock *clk, uint32_t loop_capacity, uint32_t pipe_capacity, char *err, unsigned errlen);
+/* Lifecycle: create, connect, register, destroy (docs/design.md). NULL
+ * with a message on bad parameters. */
+ist_unit *ist_create(const char *name, const ist_params *p, const accel_image *img, accel_ray *rays, ks_sim *sim,
+                     ks_clock *clk, uint32_t loop_capacity, uint32_t pipe_capacity, char *err, unsigned errlen);
+void ist_destroy(ist_unit *u);   /* NULL is a no-op */
 /* in[i]: leaf work from TRV i; out[i]: rays back to TRV i. */
-void ist_bind(ist_unit *u, uint32_t ntrv, ks_fifo **in, ks_fifo **out);
+void ist_connect(ist_unit *u, uint32_t ntrv, ks_fifo **in, ks_fifo **out);
 void ist_set_probe(ist_unit *u, accel_probe_fn probe, void *ctx);
 void ist_set_events(ist_unit *u, accel_event_fn fn, void *user);
 /* 0, or -1 when a statistic is not declared in the unit's description

@@ -58,7 +58,9 @@ static void sched_describe(void *user, char *buf, unsigned cap)
              (unsigned long long)s->src.primary_count, s->pend_count);
 }
 
-bool sched_init(sched_unit *s, const char *name, const sched_params *p, const accel_source *src, accel_ray *rays,
+static void sched_teardown(sched_unit *s);
+
+static bool sched_setup(sched_unit *s, const char *name, const sched_params *p, const accel_source *src, accel_ray *rays,
                 uint32_t ntrv, uint32_t slots, ks_clock *clk, char *err, unsigned errlen)
 {
     memset(s, 0, sizeof *s);
@@ -79,7 +81,7 @@ bool sched_init(sched_unit *s, const char *name, const sched_params *p, const ac
     s->nfree = calloc(ntrv, sizeof *s->nfree);
     s->pend = calloc(total, sizeof *s->pend);
     if (!s->ray_in || !s->free_slots || !s->nfree || !s->pend) {
-        sched_free(s);
+        sched_teardown(s);
         snprintf(err, errlen, "scheduler: out of memory");
         return false;
     }
@@ -94,7 +96,7 @@ bool sched_init(sched_unit *s, const char *name, const sched_params *p, const ac
     return true;
 }
 
-void sched_bind(sched_unit *s, ks_fifo **to_trv, ks_fifo **from_trv)
+void sched_connect(sched_unit *s, ks_fifo **to_trv, ks_fifo **from_trv)
 {
     for (uint32_t i = 0; i < s->ntrv; i++) {
         s->to_trv[i] = to_trv[i];
@@ -171,7 +173,7 @@ double sched_mean_in_flight(const sched_unit *s, uint64_t now)
     return now ? (double)area / (double)now : 0.0;
 }
 
-void sched_free(sched_unit *s)
+static void sched_teardown(sched_unit *s)
 {
     free(s->ray_in);
     free(s->free_slots);
@@ -283,4 +285,27 @@ static int sched_step(void *user, uint64_t cycle)
     if (!progress && s->pend_count && s->pend[s->pend_head].ready > cycle)
         ks_clocked_sleep_until_cycle(s->proc, s->pend[s->pend_head].ready);
     return progress;
+}
+
+sched_unit *sched_create(const char *name, const sched_params *p, const accel_source *src, accel_ray *rays,
+                         uint32_t ntrv, uint32_t slots, ks_clock *clk, char *err, unsigned errlen)
+{
+    sched_unit *s = calloc(1, sizeof *s);
+    if (!s) {
+        snprintf(err, errlen, "sched: out of memory");
+        return NULL;
+    }
+    if (!sched_setup(s, name, p, src, rays, ntrv, slots, clk, err, errlen)) {
+        free(s);
+        return NULL;
+    }
+    return s;
+}
+
+void sched_destroy(sched_unit *s)
+{
+    if (!s)
+        return;
+    sched_teardown(s);
+    free(s);
 }

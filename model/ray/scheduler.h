@@ -85,15 +85,17 @@ typedef struct sched_unit {
 extern const rtcfg_schema sched_schema;
 extern const ks_module_desc sched_module_desc;
 
-bool sched_init(sched_unit *s, const char *name, const sched_params *p, const accel_source *src, accel_ray *rays,
-                uint32_t ntrv, uint32_t slots, ks_clock *clk, char *err, unsigned errlen);
-void sched_bind(sched_unit *s, ks_fifo **to_trv, ks_fifo **from_trv);
+/* Lifecycle: create, connect, register, destroy (docs/design.md). NULL
+ * with a message on bad parameters. */
+sched_unit *sched_create(const char *name, const sched_params *p, const accel_source *src, accel_ray *rays,
+                         uint32_t ntrv, uint32_t slots, ks_clock *clk, char *err, unsigned errlen);
+void sched_connect(sched_unit *s, ks_fifo **to_trv, ks_fifo **from_trv);
 /* 0, or -1 when a statistic is not declared (message in ks_stats_error). */
 int sched_register(sched_unit *s, const char *name, ks_stats *st, ks_vcd *vcd);
 /* True when every ray has been admitted and completed. */
 bool sched_finished(const sched_unit *s);
 /* Mean rays in flight up to cycle `now`. */
 double sched_mean_in_flight(const sched_unit *s, uint64_t now);
-void sched_free(sched_unit *s);
+void sched_destroy(sched_unit *s);   /* NULL is a no-op */
 
 #endif

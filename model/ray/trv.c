@@ -2,6 +2,7 @@
 #include "model/ray/trv.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* The unit's parameters: the keys of its configuration section, written
@@ -99,7 +100,7 @@ static void trv_describe(void *user, char *buf, unsigned cap)
              pipe_ring_ready(&t->pipe, ks_clock_cycle(t->clk)) ? " (exit stage waits for a full output FIFO)" : "");
 }
 
-bool trv_init(trv_unit *t, uint32_t id, const char *name, const trv_params *p, const accel_image *img,
+static bool trv_setup(trv_unit *t, uint32_t id, const char *name, const trv_params *p, const accel_image *img,
               accel_ray *rays, ks_sim *sim, ks_clock *clk, uint32_t loop_capacity, char *err, unsigned errlen)
 {
     memset(t, 0, sizeof *t);
@@ -131,7 +132,7 @@ bool trv_init(trv_unit *t, uint32_t id, const char *name, const trv_params *p, c
     return true;
 }
 
-void trv_bind(trv_unit *t, ks_fifo *in_new, ks_fifo *in_ist, ks_fifo *out_ist, ks_fifo *out_done)
+void trv_connect(trv_unit *t, ks_fifo *in_new, ks_fifo *in_ist, ks_fifo *out_ist, ks_fifo *out_done)
 {
     t->in_new = in_new, t->in_ist = in_ist, t->out_ist = out_ist, t->out_done = out_done;
     ks_clocked_wake_on(t->proc, ks_fifo_ev_written(in_new));
@@ -217,7 +218,7 @@ int trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd)
     return rc;
 }
 
-void trv_free(trv_unit *t)
+static void trv_teardown(trv_unit *t)
 {
     trv_core_free(&t->core);
     pipe_ring_free(&t->pipe);
@@ -344,4 +345,27 @@ static int trv_step(void *user, uint64_t cycle)
 {
     trv_unit *t = user;
     return t->vcd ? trv_step_body(t, cycle, true) : trv_step_body(t, cycle, false);
+}
+
+trv_unit *trv_create(uint32_t id, const char *name, const trv_params *p, const accel_image *img, accel_ray *rays,
+                     ks_sim *sim, ks_clock *clk, uint32_t loop_capacity, char *err, unsigned errlen)
+{
+    trv_unit *t = calloc(1, sizeof *t);
+    if (!t) {
+        snprintf(err, errlen, "trv: out of memory");
+        return NULL;
+    }
+    if (!trv_setup(t, id, name, p, img, rays, sim, clk, loop_capacity, err, errlen)) {
+        free(t);
+        return NULL;
+    }
+    return t;
+}
+
+void trv_destroy(trv_unit *t)
+{
+    if (!t)
+        return;
+    trv_teardown(t);
+    free(t);
 }

@@ -82,11 +82,14 @@ extern const ks_module_desc trv_module_desc;
 /* Pipeline depth for params: fetch + box + sort layers + stack + next. */
 uint32_t trv_pipeline_depth(const trv_params *p);
 
-/* Creates the unit's process on clk, its pipeline and its loop FIFO; the port FIFOs must be set before the run
- * (trv_bind). False with a message on bad parameters. */
-bool trv_init(trv_unit *t, uint32_t id, const char *name, const trv_params *p, const accel_image *img,
-              accel_ray *rays, ks_sim *sim, ks_clock *clk, uint32_t loop_capacity, char *err, unsigned errlen);
-void trv_bind(trv_unit *t, ks_fifo *in_new, ks_fifo *in_ist, ks_fifo *out_ist, ks_fifo *out_done);
+/* Lifecycle (every unit's verbs, docs/design.md "Adding a unit"): create,
+ * connect its port FIFOs, register its statistics, destroy.
+ * trv_create makes the unit's process on clk, its pipeline and its loop
+ * FIFO; NULL with a message on bad parameters. The port FIFOs must be
+ * connected before the run. */
+trv_unit *trv_create(uint32_t id, const char *name, const trv_params *p, const accel_image *img, accel_ray *rays,
+                     ks_sim *sim, ks_clock *clk, uint32_t loop_capacity, char *err, unsigned errlen);
+void trv_connect(trv_unit *t, ks_fifo *in_new, ks_fifo *in_ist, ks_fifo *out_ist, ks_fifo *out_done);
 void trv_set_probe(trv_unit *t, accel_probe_fn probe, void *ctx);
 void trv_set_events(trv_unit *t, accel_event_fn fn, void *user);
 /* Registers statistics under "<name>." and, when a VCD is open, the unit's
@@ -95,6 +98,6 @@ void trv_set_events(trv_unit *t, accel_event_fn fn, void *user);
 /* 0, or -1 when a statistic is not declared in the unit's description
  * (message in ks_stats_error). */
 int trv_register(trv_unit *t, const char *name, ks_stats *st, ks_vcd *vcd);
-void trv_free(trv_unit *t);
+void trv_destroy(trv_unit *t);   /* NULL is a no-op */
 
 #endif

@@ -83,8 +83,8 @@ typedef struct cli_opt {
     const char *def;                 /* default as typed on the command line; NULL: none
                                         (false, NULL, 0, no items) */
     const char *what;                /* what is allowed, for a bad value, when the tool's
-                                        phrase for the kind does not fit; "%s" = the range
-                                        or the choices */
+                                        phrase for the kind does not fit: a printf format,
+                                        its one %s (if any) the range or the choices */
     bool *given;                     /* set to true when the option is on the command line */
     bool stops;                      /* an action of its own: parsing stops after it */
     const char *help;                /* --help text (NULL: listed in the synopsis only; ""
@@ -137,23 +137,27 @@ static inline void cli_choices_text(const cli_opt *o, const char *sep, char *buf
         n += (size_t)snprintf(buf + n, len - n, "%s%s", i ? sep : "", o->choices[i]);
 }
 
+/* A decimal integer in min..max (digits only: no sign, no blank). */
+static inline bool cli_parse_u64(const char *text, uint64_t min, uint64_t max, uint64_t *out)
+{
+    if (text[0] < '0' || text[0] > '9')
+        return false;
+    char *end;
+    errno = 0;
+    unsigned long long v = strtoull(text, &end, 10);
+    if (errno || *end || v < min || v > max)
+        return false;
+    *out = v;
+    return true;
+}
+
 /* Parses text for row o into its destination; false with err (possibly
  * empty: the row's `what` then says what is allowed). */
 static inline bool cli_set_value(const cli_opt *o, const char *text, char *err, size_t errlen)
 {
     err[0] = 0;
     switch (o->kind) {
-    case CLI_UINT: {
-        if (text[0] < '0' || text[0] > '9')
-            return false;
-        char *end;
-        errno = 0;
-        unsigned long long v = strtoull(text, &end, 10);
-        if (errno || *end || v < o->min || v > o->max)
-            return false;
-        *o->to.u = v;
-        return true;
-    }
+    case CLI_UINT: return cli_parse_u64(text, o->min, o->max, o->to.u);
     case CLI_REAL: {
         char *end;
         errno = 0;

@@ -47,7 +47,7 @@ typedef enum cli_kind {
     CLI_REAL,     /* number in lo..hi (lo excluded when lo_open); to.real */
     CLI_CHOICE,   /* one of choices; to.choice = its index */
     CLI_CUSTOM,   /* parse(text, to.custom) decides */
-    CLI_HELP,     /* prints the usage, exit 0 */
+    CLI_HELP,     /* prints the usage, exit 0; listed as "--help, --version" */
     CLI_VERSION,  /* prints the version, exit 0 */
 } cli_kind;
 

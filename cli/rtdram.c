@@ -202,17 +202,14 @@ static int run_trace(job *j)
         j->sk.checker = dram_checker_create(&j->spec, stderr, 20);
     if (j->ctrl && (j->sk.f || j->sk.checker))
         dram_set_cmd_sink(j->ctrl, on_cmd, &j->sk);
-    struct timespec t0, t1;
-    clock_gettime(CLOCK_MONOTONIC, &t0);
-    double cpu0 = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID);
+    const double t0 = cli_run_clock(CLOCK_MONOTONIC), cpu0 = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID);
     ks_interrupt_polling(true);   /* both run loops check ks_interrupted() */
     dram_trace_set_stop_check(ks_interrupted);
     int rc = o->kernel ? dram_port_trace_run(&j->spec, &j->pspec, tf, o->trace,
                                              j->sk.f || j->sk.checker ? on_cmd : NULL, &j->sk, o->exhaustive,
                                              &j->res, &j->s, j->err, sizeof j->err)
                        : dram_trace_run(j->ctrl, tf, o->trace, &j->res, j->err, sizeof j->err);
-    clock_gettime(CLOCK_MONOTONIC, &t1);
-    j->host_s = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+    j->host_s = cli_run_clock(CLOCK_MONOTONIC) - t0;
     j->run->has_sim = true, j->run->sim_cpu_s = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID) - cpu0;
     j->run->sim_wall_s = j->host_s;
     fclose(tf);

@@ -235,20 +235,10 @@ typedef struct progress_state {
     const accel_source *src;
 } progress_state;
 
-static double wall(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+static double wall(void) { return cli_run_clock(CLOCK_MONOTONIC); }
 
 /* CPU time of this process: the run's cost on one core, even on a loaded host. */
-static double cpu(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+static double cpu(void) { return cli_run_clock(CLOCK_PROCESS_CPUTIME_ID); }
 
 static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admitted)
 {

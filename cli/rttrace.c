@@ -16,10 +16,8 @@
  * stdout "-", devices and pipes, two outputs naming one file refused; on an
  * error the outputs of this run are removed. Deterministic: the same
  * arguments give the same counts, images and log bytes. */
-#include <errno.h>
 #include <inttypes.h>
 #include <limits.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -46,12 +44,7 @@
 #include "cli/version.h"
 #define BOUNCES_MAX 32            /* rt_ray.bounce is 8 bits; 32 is far beyond the paper's 4 */
 
-static double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
+static double now_s(void) { return cli_run_clock(CLOCK_MONOTONIC); }
 
 /* ---- options ---- */
 

@@ -8,8 +8,6 @@
  * "partial"). Every output path is planned before the run through the output
  * layer (kernel/out_file.h: temporary name and rename for files, in place for
  * stdout "-", devices and pipes; two outputs naming one file are refused). */
-#include <errno.h>
-#include <getopt.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -28,65 +26,142 @@
 #include "tracer/image.h"
 #include "tracer/scene.h"
 
+#include "cli/options.h"
 #include "cli/output_path.h"
 #include "cli/run_info.h"
 #include "cli/version.h"
 
-static void usage(FILE *out)
+/* ---- options ---- */
+
+typedef struct options {
+    const char *scene, *view, *views, *machine, *res, *json, *vcd, *vcd_filter, *heatmap, *autosize, *help_module;
+    cli_list sets;
+    int rays;                  /* index in ray_kinds */
+    bool diffuse, occlusion;   /* --rays diffuse, occlusion (AO rays of the primary hits, docs/accel.md) */
+    uint64_t bounces, seed;
+    struct vcd_window {
+        uint64_t a, b;         /* cycles [a, b) */
+    } vcd_window;
+    bool vcd_window_given, quiet, exhaustive, progress;
+    int level;                 /* fid_level */
+    double accuracy, sample_rate;   /* 0: not given */
+} options;
+
+enum { RAYS_PRIMARY, RAYS_DIFFUSE, RAYS_OCCLUSION };
+static const char *const ray_kinds[] = {"primary", "diffuse", "occlusion", NULL};
+
+/* --vcd-window A:B, cycles, A < B */
+static bool parse_vcd_window(const char *text, void *to, char *err, size_t errlen)
 {
-    fprintf(out,
-            "usage: rtsim [SCENE] [--view NAME] [--views FILE] [--machine bvh2|mbvh4|FILE.ini]\n"
-            "             [--rays primary|diffuse|occlusion] [--res WxH] [--bounces N] [--seed N]\n"
-            "             [--set KEY=VALUE]... [--json FILE] [--vcd FILE] [--vcd-window A:B]\n"
-            "             [--vcd-filter GLOB] [--heatmap FILE] [--autosize-fifos OUT.ini]\n"
-            "             [--help-module NAME] [--quiet] [--progress] [--exhaustive] [--help] [--version]\n"
-            "             [--fidelity full|fixed-mem|functional|sampled] [--accuracy P%%]\n"
-            "             [--sample-rate R]\n"
-            "SCENE: a built-in scene (interior, hairball, city, forest; default interior) or an\n"
-            "       .obj/.ply(.gz)/.scene file. Defaults: 1280x720, mbvh4, primary rays,\n"
-            "       4 bounces, seed 1. Occlusion rays: 4 ambient-occlusion rays per primary hit.\n"
-            "--set KEY=VALUE     override a machine key (e.g. trv.count=8, or a key of the DRAM\n"
-            "                    standard file: dram.timing.nCL=14); see --help-module\n"
-            "--json FILE         every statistic (with units and descriptions) as JSON\n"
-            "--vcd FILE          waveforms of all units; --vcd-window A:B limits them to cycles\n"
-            "                    [A, B), --vcd-filter a comma-separated list of globs\n"
-            "--heatmap FILE      simulated cycles per pixel (.png or .exr)\n"
-            "--autosize-fifos F  run, then write the machine with every FIFO shrunk to the\n"
-            "                    first power of two above its maximum occupancy (paper sec. 3)\n"
-            "--exhaustive        step every unit every cycle (no idle skipping; reference mode)\n"
-            "--progress          print the run-time estimate first and, when stderr is not a\n"
-            "                    terminal, a progress line every few seconds (a terminal\n"
-            "                    gets a progress bar anyway); runs estimated to take more\n"
-            "                    than a minute print the estimate in any case\n"
-            "--fidelity LEVEL    full (default), fixed-mem, functional or sampled: cheaper models,\n"
-            "                    each result with its error estimate and flag (docs/fidelity.md)\n"
-            "--accuracy P%%       pick the cheapest level expected within P%% (falls back to full)\n"
-            "--sample-rate R     sampled: fraction of the pixels modelled (0 < R <= 1; default 1/16)\n"
-"--help-module NAME  parameters, ports and statistics of a module (trv, ist, sched,\n"
-            "                    cache, arbiter, fixed_mem, dram, ...) and the keys of its\n"
-            "                    configuration section (node_l1, node_l2, prim, memory, fifo, machine,\n"
-            "                    dram)\n");
+    (void)err, (void)errlen;
+    struct vcd_window *w = to;
+    char a[32] = "";
+    const char *colon = strchr(text, ':');
+    if (!colon || (size_t)(colon - text) >= sizeof a)
+        return false;
+    memcpy(a, text, (size_t)(colon - text));
+    return cli_parse_u64(a, 0, UINT64_MAX / 4, &w->a) && cli_parse_u64(colon + 1, 1, UINT64_MAX / 4, &w->b) &&
+           w->b > w->a;
 }
 
-static int bad(const char *fmt, const char *a, const char *b)
+/* --accuracy P%: fidelity.h */
+static bool parse_accuracy(const char *text, void *to, char *err, size_t errlen)
 {
-    fprintf(stderr, "rtsim: ");
-    fprintf(stderr, fmt, a, b);
-    fprintf(stderr, "\n(see rtsim --help)\n");
-    return 2;
+    (void)err, (void)errlen;
+    return fid_accuracy_parse(text, to);
 }
 
-static bool parse_u64(const char *s, uint64_t lo, uint64_t hi, uint64_t *out)
+/* Reads argv into o and checks the combinations: CLI_GO_ON to run (or to
+ * answer --help-module), else the exit status (0 after --help or
+ * --version, 2 with a message naming the option). */
+static int parse_options(int argc, char **argv, options *o)
 {
-    if (!s || !*s || *s == '-')
-        return false;
-    char *end;
-    errno = 0;
-    unsigned long long v = strtoull(s, &end, 10);
-    if (errno || *end || v < lo || v > hi)
-        return false;
-    *out = v;
-    return true;
+    const char *levels[FID_LEVEL_COUNT + 1] = {NULL};
+    for (int i = 0; i < FID_LEVEL_COUNT; i++)
+        levels[i] = fid_level_name((fid_level)i);
+    const cli_opt table[] = {
+        {.name = "view", .kind = CLI_STRING, .to.str = &o->view, .arg = "NAME"},
+        {.name = "views", .kind = CLI_STRING, .to.str = &o->views, .arg = "FILE"},
+        {.name = "machine", .kind = CLI_STRING, .to.str = &o->machine, .arg = "bvh2|mbvh4|FILE.ini", .def = "mbvh4"},
+        {.name = "rays", .kind = CLI_CHOICE, .to.choice = &o->rays, .choices = ray_kinds, .def = "primary"},
+        {.name = "res", .kind = CLI_STRING, .to.str = &o->res, .arg = "WxH",   /* checked once the machine is read */
+         .def = CLI_STR(RT_DEFAULT_WIDTH) "x" CLI_STR(RT_DEFAULT_HEIGHT)},
+        {.name = "bounces", .kind = CLI_UINT, .to.u = &o->bounces, .arg = "N", .min = 0, .max = 64,
+         .def = CLI_STR(RT_MAX_BOUNCES_DEFAULT)},
+        {.name = "seed", .kind = CLI_UINT, .to.u = &o->seed, .arg = "N", .min = 0, .max = UINT64_MAX, .def = "1",
+         .what = "expected a non-negative integer"},
+        {.name = "set", .kind = CLI_LIST, .to.list = &o->sets, .arg = "KEY=VALUE",
+         .help = "override a machine key (e.g. trv.count=8, or a key of the DRAM\n"
+                 "standard file: dram.timing.nCL=14); see --help-module"},
+        {.name = "json", .kind = CLI_STRING, .to.str = &o->json, .arg = "FILE",
+         .help = "every statistic (with units and descriptions) as JSON"},
+        {.name = "vcd", .kind = CLI_STRING, .to.str = &o->vcd, .arg = "FILE",
+         .help = "waveforms of all units; --vcd-window A:B limits them to cycles\n"
+                 "[A, B), --vcd-filter a comma-separated list of globs"},
+        {.name = "vcd-window", .kind = CLI_CUSTOM, .to.custom = &o->vcd_window, .parse = parse_vcd_window, .arg = "A:B",
+         .given = &o->vcd_window_given, .what = "expected A:B (cycles, A < B)"},
+        {.name = "vcd-filter", .kind = CLI_STRING, .to.str = &o->vcd_filter, .arg = "GLOB"},
+        {.name = "heatmap", .kind = CLI_STRING, .to.str = &o->heatmap, .arg = "FILE",
+         .help = "simulated cycles per pixel (.png or .exr)"},
+        {.name = "autosize-fifos", .kind = CLI_STRING, .to.str = &o->autosize, .arg = "OUT.ini",
+         .help = "run, then write the machine with every FIFO shrunk to the\n"
+                 "first power of two above its maximum occupancy (paper sec. 3)"},
+        {.name = "help-module", .kind = CLI_STRING, .to.str = &o->help_module, .arg = "NAME", .stops = true,
+         .help = "parameters, ports and statistics of a module (trv, ist, sched,\n"
+                 "cache, arbiter, fixed_mem, dram, ...) and the keys of its\n"
+                 "configuration section (node_l1, node_l2, prim, memory, fifo, machine,\n"
+                 "dram)"},
+        {.name = "quiet", .kind = CLI_FLAG, .to.flag = &o->quiet},
+        {.name = "progress", .kind = CLI_FLAG, .to.flag = &o->progress,
+         .help = "print the run-time estimate first and, when stderr is not a\n"
+                 "terminal, a progress line every few seconds (a terminal\n"
+                 "gets a progress bar anyway); runs estimated to take more\n"
+                 "than a minute print the estimate in any case"},
+        {.name = "exhaustive", .kind = CLI_FLAG, .to.flag = &o->exhaustive,
+         .help = "step every unit every cycle (no idle skipping; reference mode)"},
+        {.name = "help", .kind = CLI_HELP},
+        {.name = "version", .kind = CLI_VERSION},
+        {.name = "fidelity", .kind = CLI_CHOICE, .to.choice = &o->level, .choices = levels, .arg = "LEVEL",
+         .def = "full",
+         .help = "full (default), fixed-mem, functional or sampled: cheaper models,\n"
+                 "each result with its error estimate and flag (docs/fidelity.md)"},
+        {.name = "accuracy", .kind = CLI_CUSTOM, .to.custom = &o->accuracy, .parse = parse_accuracy, .arg = "P%",
+         .what = "expected a percentage in (0, 100], e.g. 2%%",
+         .help = "pick the cheapest level expected within P% (falls back to full)"},
+        {.name = "sample-rate", .kind = CLI_REAL, .to.real = &o->sample_rate, .arg = "R", .lo = 0, .lo_open = true,
+         .hi = 1, .help = "sampled: fraction of the pixels modelled ({range}; default 1/16)"},
+        {0}};
+    const cli_tool tool = {
+        .name = "rtsim", .opts = table, .synopsis = "usage: rtsim [SCENE]", .width = 93, .indent = 0, .column = 20,
+        .about = "SCENE: a built-in scene (interior, hairball, city, forest; default interior) or an\n"
+                 "       .obj/.ply(.gz)/.scene file. Defaults: 1280x720, mbvh4, primary rays,\n"
+                 "       4 bounces, seed 1. Occlusion rays: 4 ambient-occlusion rays per primary hit.\n",
+        .bad_value = "%s %s: %s", .uint_what = "allowed range %s", .real_what = "allowed range %s",
+        .choice_what = "allowed values are %s", .unknown = "unknown option or missing value: %s",
+        .hint = "(see rtsim --help)", .unknown_shows_usage = true,
+    };
+    memset(o, 0, sizeof *o);
+    int args, rc = cli_parse(&tool, argc, argv, &args);
+    if (rc != CLI_GO_ON || o->help_module)   /* --help-module: answered alone */
+        return rc;
+    o->scene = args < argc ? argv[args++] : "interior";
+    if (args < argc)
+        return cli_usage_error(&tool, "unexpected argument %s (one SCENE only)", argv[args]);
+    o->diffuse = o->rays == RAYS_DIFFUSE;
+    o->occlusion = o->rays == RAYS_OCCLUSION;
+    if (!o->vcd && (o->vcd_window_given || o->vcd_filter))
+        return cli_usage_error(&tool, "%s: only with --vcd FILE (no waveform is written without it)",
+                               o->vcd_window_given ? "--vcd-window" : "--vcd-filter");
+    const char *cheaper = o->accuracy > 0 ? "--accuracy" : o->level != FID_FULL ? fid_level_name(o->level) : NULL;
+    if (cheaper && o->occlusion)
+        return cli_usage_error(&tool, "--rays occlusion needs --fidelity full (%s asked)", cheaper);
+    if (cheaper && (o->vcd || o->heatmap || o->autosize || o->exhaustive))
+        return cli_usage_error(&tool, "--vcd, --heatmap, --autosize-fifos and --exhaustive need --fidelity full "
+                                      "(%s asked)",
+                               cheaper);
+    if (o->heatmap && !rt_image_format_supported(o->heatmap))
+        return cli_usage_error(&tool, "--heatmap %s: the file must end in .png or .exr", o->heatmap);
+    return CLI_GO_ON;
 }
 
 static rtcfg *make_cfg(char *err, size_t errlen)
@@ -160,20 +235,10 @@ typedef struct progress_state {
     const accel_source *src;
 } progress_state;
 
-static double wall(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+static double wall(void) { return cli_run_clock(CLOCK_MONOTONIC); }
 
 /* CPU time of this process: the run's cost on one core, even on a loaded host. */
-static double cpu(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
+static double cpu(void) { return cli_run_clock(CLOCK_PROCESS_CPUTIME_ID); }
 
 static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admitted)
 {
@@ -263,48 +328,117 @@ static int write_json(ks_stats *st, const cli_run_info *ri, const char *head, ks
     return rc;
 }
 
-/* The provenance of a run (docs/results.md) that the options and the scene give. */
-static void fill_run(cli_run_info *run, const char *scene_name, const char *views_file, const rt_view *view,
-                     const rt_scene *sc, const char *machine, const rtcfg *cfg, uint32_t w, uint32_t h, bool diffuse,
-                     long bounces, uint64_t seed)
+/* ---- the run ---- */
+
+/* One run: the machine, the scene and its BVH, the rays, the model. */
+typedef struct job {
+    const options *o;
+    cli_run_info *run;         /* provenance of the JSON (cli/run_info.h) */
+    rtcfg *cfg;
+    uint32_t w, h;
+    cli_output outs[4];        /* --json, --vcd, --heatmap, --autosize-fifos */
+    rt_scene sc;
+    const rt_view *view;
+    rt_bvh_image img;
+    rtsim_frame frame;
+    accel_source src;
+    accel_top *top;
+    char err[8192];
+} job;
+
+/* The machine (preset or file, then --set) and the frame size; false with
+ * the message in j->err. */
+static bool load_machine(job *j)
 {
-    run->scene = scene_name, run->views_file = views_file, run->view = view->name;
-    run->has_mesh_hash = true, run->mesh_hash = rt_mesh_hash(&sc->mesh);
-    run->machine = machine;
-    run->has_config_hash = cli_run_config_hash(cfg, &run->config_hash);
-    run->width = w, run->height = h, run->rays = diffuse ? "diffuse" : "primary";
-    run->has_bounces = diffuse, run->bounces = (uint32_t)bounces;
-    run->has_seed = diffuse, run->seed = seed;
+    const options *o = j->o;
+    j->cfg = make_cfg(j->err, sizeof j->err);
+    if (!j->cfg || rtcfg_load(j->cfg, o->machine, j->err, sizeof j->err))
+        return false;
+    for (int i = 0; i < o->sets.n; i++)
+        if (rtcfg_set(j->cfg, o->sets.v[i], j->err, sizeof j->err))
+            return false;
+    return !rtcfg_finish(j->cfg, j->err, sizeof j->err) &&
+           rt_parse_resolution(o->res, &j->w, &j->h, j->err, sizeof j->err);
+}
+
+/* Every output before the scene is loaded (the VCD writer finds its plan
+ * by path, kernel/vcd.h). */
+static bool plan_outputs(job *j)
+{
+    const options *o = j->o;
+    j->outs[0] = (cli_output){"--json", o->json, NULL};
+    j->outs[1] = (cli_output){"--vcd", o->vcd, NULL};
+    j->outs[2] = (cli_output){"--heatmap", o->heatmap, NULL};
+    j->outs[3] = (cli_output){"--autosize-fifos", o->autosize, NULL};
+    return cli_plan_outputs(j->outs, 4, j->err, sizeof j->err);
+}
+
+/* The scene and its view, the BVH for the machine's width and the rays of
+ * the frame (camera, diffuse paths or occlusion rays); false with j->err. */
+static bool load_scene(job *j)
+{
+    const options *o = j->o;
+    if (!rt_scene_load(o->scene, &j->sc, j->err, sizeof j->err) ||
+        (o->views && !rt_scene_set_views_file(&j->sc, o->views, j->err, sizeof j->err)))
+        return false;
+    j->view = rt_scene_view(&j->sc, o->view, j->err, sizeof j->err);
+    if (!j->view)
+        return false;
+    rt_bvh_params bp;
+    rt_bvh_params_default(&bp);
+    bp.width = (int)rtcfg_int(j->cfg, "machine.branching");
+    if (!rt_bvh_build(&j->sc.mesh, &bp, &j->img, NULL, j->err, sizeof j->err))
+        return false;
+    if (!rtsim_frame_init(&j->frame, &j->sc.mesh, j->view, j->w, j->h, o->diffuse, (uint32_t)o->bounces, o->seed,
+                          o->heatmap != NULL, &j->src, j->err, sizeof j->err))
+        return false;
+    return !o->occlusion ||
+           rtsim_frame_occlusion(&j->frame, &j->img, RT_AO_SAMPLES_DEFAULT, &j->src, j->err, sizeof j->err);
+}
+
+/* The provenance of a run (docs/results.md) that the options and the scene give. */
+static void fill_run(job *j)
+{
+    const options *o = j->o;
+    cli_run_info *run = j->run;
+    run->scene = o->scene, run->views_file = o->views, run->view = j->view->name;
+    run->has_mesh_hash = true, run->mesh_hash = rt_mesh_hash(&j->sc.mesh);
+    run->machine = o->machine;
+    run->has_config_hash = cli_run_config_hash(j->cfg, &run->config_hash);
+    run->width = j->w, run->height = j->h, run->rays = o->diffuse ? "diffuse" : "primary";
+    run->has_bounces = o->diffuse, run->bounces = (uint32_t)o->bounces;
+    run->has_seed = o->diffuse, run->seed = o->seed;
 }
 
 /* A cheaper fidelity level or --accuracy (fidelity.h): runs, prints the
  * summary and writes the JSON. Returns the exit status. */
-static int run_fidelity(rtcfg *cfg, const rt_scene *sc, const rt_view *view, const rt_bvh_image *img, uint32_t w,
-                        uint32_t h, bool diffuse, uint32_t bounces, uint64_t seed, fid_level level, double accuracy,
-                        double sample_rate, bool quiet, cli_run_info *run, ks_out *json)
+static int run_fidelity(job *j)
 {
-    char err[8192];
-    fid_job job = {cfg, &sc->mesh, view, img, w, h, diffuse, bounces, seed, sample_rate, NULL, NULL};
+    const options *o = j->o;
+    fid_job job = {j->cfg, &j->sc.mesh, j->view, &j->img, j->w, j->h, o->diffuse, (uint32_t)o->bounces, o->seed,
+                   o->sample_rate, NULL, NULL};
     fid_outcome fo;
+    fill_run(j);
     double t0 = wall(), c0 = cpu();
-    int rc = fid_run(&job, level, accuracy, &fo, err, sizeof err);
+    int rc = fid_run(&job, (fid_level)o->level, o->accuracy, &fo, j->err, sizeof j->err);
     double host_s = wall() - t0, cpu_s = cpu() - c0;
     if (rc)
-        fprintf(stderr, "rtsim: %s\n", err);
-    if (!quiet && (rc == 0 || fo.top)) {
-        printf("scene       %s, view %s, %ux%u, %s rays\n", sc->name, view->name, w, h, diffuse ? "diffuse" : "primary");
-        printf("BVH         %u nodes x %u B, %u triangles\n", img->nnodes, img->node_bytes, img->ntris);
+        fprintf(stderr, "rtsim: %s\n", j->err);
+    if (!o->quiet && (rc == 0 || fo.top)) {
+        printf("scene       %s, view %s, %ux%u, %s rays\n", j->sc.name, j->view->name, j->w, j->h,
+               o->diffuse ? "diffuse" : "primary");
+        printf("BVH         %u nodes x %u B, %u triangles\n", j->img.nnodes, j->img.node_bytes, j->img.ntris);
         fid_outcome_print(&fo, stdout);
         fid_print_summary(&fo.res, stdout);
         printf("host        %.3f s CPU (%.3f s wall), %.0f K rays/s (CPU)\n", cpu_s, host_s,
                cpu_s > 0 ? fo.rays / cpu_s / 1e3 : 0.0);
     }
-    if (json && (rc == 0 || fo.top)) {
+    if (o->json && (rc == 0 || fo.top)) {
         char jhead[4096];
         fid_json_strings(&fo.res, jhead, sizeof jhead);
-        run->has_sim = true, run->sim_cpu_s = cpu_s, run->sim_wall_s = host_s;
-        if (write_json(fid_outcome_stats(&fo), run, jhead, json, NULL, err, sizeof err)) {
-            fprintf(stderr, "rtsim: %s\n", err);
+        j->run->has_sim = true, j->run->sim_cpu_s = cpu_s, j->run->sim_wall_s = host_s;
+        if (write_json(fid_outcome_stats(&fo), j->run, jhead, j->outs[0].out, NULL, j->err, sizeof j->err)) {
+            fprintf(stderr, "rtsim: %s\n", j->err);
             rc = rc ? rc : 2;
         }
     }
@@ -312,240 +446,100 @@ static int run_fidelity(rtcfg *cfg, const rt_scene *sc, const rt_view *view, con
     return rc;
 }
 
-/* Bad usage inside main: free the --set list, print, exit 2. */
-#define USAGE_ERR(...)                                                                                                 \
-    do {                                                                                                               \
-        free(sets);                                                                                                    \
-        return bad(__VA_ARGS__);                                                                                       \
-    } while (0)
-
-int main(int argc, char **argv)
+/* The run-time estimate: said before a long run starts, and with
+ * --progress; sets up the progress lines. */
+static void announce(job *j, progress_state *ps)
 {
-    static cli_run_info run;   /* provenance of the JSON (cli/run_info.h) */
-    cli_run_init(&run, "rtsim", argc, argv);
-    const char *scene_name = "interior", *view_name = NULL, *views_file = NULL, *machine = "mbvh4";
-    const char *json = NULL, *vcd = NULL, *vcd_filter = NULL, *heatmap = NULL, *autosize = NULL;
-    const char *res = "1280x720";
-    bool diffuse = false, occlusion = false, quiet = false, exhaustive = false, progress = false;
-    fid_level level = FID_FULL;
-    double accuracy = 0, sample_rate = 0;
-    uint64_t bounces = 4, seed = 1, vcd_a = 0, vcd_b = 0;
-    const char **sets = calloc((size_t)argc, sizeof *sets);
-    int nsets = 0;
-    bool vcd_window = false;
-    ks_interrupt_install("rtsim");
-    enum { O_VIEW = 256, O_VIEWS, O_MACHINE, O_RAYS, O_RES, O_BOUNCES, O_SEED, O_SET, O_JSON, O_VCD, O_VCDW, O_VCDF,
-           O_HEAT, O_AUTO, O_HELPMOD, O_QUIET, O_EXHAUSTIVE, O_HELP, O_VERSION, O_PROGRESS,
-           O_FIDELITY, O_ACCURACY, O_SAMPLE };
-    static const struct option opts[] = {
-        {"view", required_argument, 0, O_VIEW},        {"views", required_argument, 0, O_VIEWS},
-        {"machine", required_argument, 0, O_MACHINE},  {"rays", required_argument, 0, O_RAYS},
-        {"res", required_argument, 0, O_RES},          {"bounces", required_argument, 0, O_BOUNCES},
-        {"seed", required_argument, 0, O_SEED},        {"set", required_argument, 0, O_SET},
-        {"json", required_argument, 0, O_JSON},        {"vcd", required_argument, 0, O_VCD},
-        {"vcd-window", required_argument, 0, O_VCDW},  {"vcd-filter", required_argument, 0, O_VCDF},
-        {"heatmap", required_argument, 0, O_HEAT},     {"autosize-fifos", required_argument, 0, O_AUTO},
-        {"help-module", required_argument, 0, O_HELPMOD}, {"quiet", no_argument, 0, O_QUIET}, {"exhaustive", no_argument, 0, O_EXHAUSTIVE},
-        {"help", no_argument, 0, O_HELP},              {"version", no_argument, 0, O_VERSION},
-        {"progress", no_argument, 0, O_PROGRESS},
-        {"fidelity", required_argument, 0, O_FIDELITY}, {"accuracy", required_argument, 0, O_ACCURACY},
-        {"sample-rate", required_argument, 0, O_SAMPLE},
-        {0, 0, 0, 0}};
-    if (!sets)
-        return 2;
-    opterr = 0;
-    int c;
-    while ((c = getopt_long(argc, argv, "", opts, NULL)) != -1) {
-        switch (c) {
-        case O_VIEW: view_name = optarg; break;
-        case O_VIEWS: views_file = optarg; break;
-        case O_MACHINE: machine = optarg; break;
-        case O_RAYS:
-            diffuse = !strcmp(optarg, "diffuse");
-            occlusion = !strcmp(optarg, "occlusion");   /* AO rays of the primary hits (docs/accel.md) */
-            if (strcmp(optarg, "primary") && !diffuse && !occlusion)
-                USAGE_ERR("--rays %s: allowed values are primary, diffuse, occlusion%s", optarg, "");
-            break;
-        case O_RES: res = optarg; break;
-        case O_BOUNCES:
-            if (!parse_u64(optarg, 0, 64, &bounces))
-                USAGE_ERR("--bounces %s: allowed range 0..64%s", optarg, "");
-            break;
-        case O_SEED:
-            if (!parse_u64(optarg, 0, UINT64_MAX, &seed))
-                USAGE_ERR("--seed %s: expected a non-negative integer%s", optarg, "");
-            break;
-        case O_SET: sets[nsets++] = optarg; break;
-        case O_JSON: json = optarg; break;
-        case O_VCD: vcd = optarg; break;
-        case O_VCDW: {
-            char a[32] = "", *colon = strchr(optarg, ':');
-            if (!colon || (size_t)(colon - optarg) >= sizeof a)
-                USAGE_ERR("--vcd-window %s: expected A:B (cycles, A < B)%s", optarg, "");
-            memcpy(a, optarg, (size_t)(colon - optarg));
-            a[colon - optarg] = 0;
-            if (!parse_u64(a, 0, UINT64_MAX / 4, &vcd_a) || !parse_u64(colon + 1, 1, UINT64_MAX / 4, &vcd_b) ||
-                vcd_b <= vcd_a)
-                USAGE_ERR("--vcd-window %s: expected A:B (cycles, A < B)%s", optarg, "");
-            vcd_window = true;
-            break;
-        }
-        case O_VCDF: vcd_filter = optarg; break;
-        case O_HEAT: heatmap = optarg; break;
-        case O_AUTO: autosize = optarg; break;
-        case O_HELPMOD: free(sets); return help_module(optarg);
-        case O_QUIET: quiet = true; break;
-        case O_EXHAUSTIVE: exhaustive = true; break;
-        case O_PROGRESS: progress = true; break;
-        case O_FIDELITY:
-            if (!fid_level_parse(optarg, &level))
-                USAGE_ERR("--fidelity %s: allowed values are full, fixed-mem, functional, sampled%s", optarg, "");
-            break;
-        case O_ACCURACY:
-            if (!fid_accuracy_parse(optarg, &accuracy))
-                USAGE_ERR("--accuracy %s: expected a percentage in (0, 100], e.g. 2%%%s", optarg, "");
-            break;
-        case O_SAMPLE: {
-            char *end;
-            sample_rate = strtod(optarg, &end);
-            if (end == optarg || *end || !(sample_rate > 0) || sample_rate > 1)
-                USAGE_ERR("--sample-rate %s: allowed range 0 < R <= 1%s", optarg, "");
-            break;
-        }
-        case O_HELP: usage(stdout); free(sets); return 0;
-        case O_VERSION: printf("rtsim %s (git %s)\n", RTSIM_VERSION, RTSIM_GIT); free(sets); return 0;
-        case '?':
-        default:
-            free(sets);
-            /* a long option's optopt is its code (>= 256), not a character */
-            if (optopt && optopt < 256)
-                fprintf(stderr, "rtsim: option needs a value or is unknown: -%c\n", optopt);
-            else
-                fprintf(stderr, "rtsim: unknown option or missing value: %s\n", argv[optind - 1]);
-            usage(stderr);
-            return 2;
-        }
+    const options *o = j->o;
+    rtsim_estimate_params ep;
+    char eerr[1200];
+    if (!rtsim_estimate_load(&ep, eerr, sizeof eerr)) {
+        fprintf(stderr, "rtsim: warning: no run-time estimate: %s\n", eerr);
+        return;
     }
-    if (optind < argc)
-        scene_name = argv[optind++];
-    if (optind < argc) {
-        USAGE_ERR("unexpected argument %s (one SCENE only)%s", argv[optind], "");
+    const accel_params *ap = accel_top_params(j->top);
+    rt_trv_params tp;
+    rt_trv_params_default(&tp, j->img.width);
+    tp.stack_depth = (int)ap->trv.core.stack_depth;
+    tp.distance_cull = ap->trv.core.distance_cull;
+    rtsim_estimate est;
+    rtsim_estimate_frame(&ep, &j->frame, &j->img, &tp, ap->trv_count, o->exhaustive, &est);
+    if (o->progress || est.host_s >= ep.announce_s) {
+        char d[32];
+        rtsim_estimate_duration(est.host_s, d, sizeof d);
+        fprintf(stderr, "rtsim: estimate: ~%.0f rays, ~%.3g simulated cycles, ~%s of host time (%s%s)%s\n", est.rays,
+                est.cycles, d, o->diffuse ? "diffuse" : "primary", o->exhaustive ? ", exhaustive" : "",
+                est.host_s >= ep.announce_s && !o->progress ? "; --progress prints progress lines" : "");
     }
-    if (!vcd && (vcd_window || vcd_filter)) {
-        USAGE_ERR("%s: only with --vcd FILE (no waveform is written without it)%s",
-                  vcd_window ? "--vcd-window" : "--vcd-filter", "");
-    }
-    if ((level != FID_FULL || accuracy > 0) && occlusion) {
-        USAGE_ERR("--rays occlusion needs --fidelity full (%s asked)%s",
-                  accuracy > 0 ? "--accuracy" : fid_level_name(level), "");
-    }
-    if ((level != FID_FULL || accuracy > 0) && (vcd || heatmap || autosize || exhaustive)) {
-        USAGE_ERR("--vcd, --heatmap, --autosize-fifos and --exhaustive need --fidelity full (%s asked)%s",
-                  accuracy > 0 ? "--accuracy" : fid_level_name(level), "");
-    }
-    if (heatmap && !rt_image_format_supported(heatmap)) {
-        USAGE_ERR("--heatmap %s: the file must end in .png or .exr%s", heatmap, "");
-    }
+    ps->lines = o->progress && !isatty(2);
+    ps->every = ep.progress_s;
+    ps->last = ps->t0;
+    ps->est_cycles = est.cycles;
+}
 
-    char err[8192];
-    int rc = 2;
-    rtcfg *cfg = make_cfg(err, sizeof err);
-    rt_scene sc;
-    memset(&sc, 0, sizeof sc);
-    rt_bvh_image img;
-    memset(&img, 0, sizeof img);
-    rtsim_frame frame;
-    memset(&frame, 0, sizeof frame);
-    accel_top *top = NULL;
-    uint32_t w = 0, h = 0;
-    if (!cfg)
-        goto fail;
-    if (rtcfg_load(cfg, machine, err, sizeof err))
-        goto fail;
-    for (int i = 0; i < nsets; i++)
-        if (rtcfg_set(cfg, sets[i], err, sizeof err))
-            goto fail;
-    if (rtcfg_finish(cfg, err, sizeof err))
-        goto fail;
-    if (!rt_parse_resolution(res, &w, &h, err, sizeof err))
-        goto fail;
-    /* every output before the scene is loaded: the VCD writer finds its
-     * plan by path (kernel/vcd.h) */
-    cli_output outs[4] = {{"--json", json, NULL}, {"--vcd", vcd, NULL}, {"--heatmap", heatmap, NULL},
-                          {"--autosize-fifos", autosize, NULL}};
-    if (!cli_plan_outputs(outs, 4, err, sizeof err))
-        goto fail;
-    if (!rt_scene_load(scene_name, &sc, err, sizeof err))
-        goto fail;
-    if (views_file && !rt_scene_set_views_file(&sc, views_file, err, sizeof err))
-        goto fail;
-    const rt_view *view = rt_scene_view(&sc, view_name, err, sizeof err);
-    if (!view)
-        goto fail;
-    rt_bvh_params bp;
-    rt_bvh_params_default(&bp);
-    bp.width = (int)rtcfg_int(cfg, "machine.branching");
-    if (!rt_bvh_build(&sc.mesh, &bp, &img, NULL, err, sizeof err))
-        goto fail;
-    accel_source src;
-    if (!rtsim_frame_init(&frame, &sc.mesh, view, w, h, diffuse, (uint32_t)bounces, seed, heatmap != NULL, &src, err,
-                          sizeof err))
-        goto fail;
-    if (occlusion && !rtsim_frame_occlusion(&frame, &img, RT_AO_SAMPLES_DEFAULT, &src, err, sizeof err))
-        goto fail;
-    if (level != FID_FULL || accuracy > 0) {
-        /* a cheaper level or the automatic choice: fidelity/ runs it */
-        fill_run(&run, scene_name, views_file, view, &sc, machine, cfg, w, h, diffuse, bounces, seed);
-        rc = run_fidelity(cfg, &sc, view, &img, w, h, diffuse, (uint32_t)bounces, seed, level, accuracy, sample_rate,
-                          quiet, &run, json ? outs[0].out : NULL);
-        goto done;
+/* After the run: the heatmap (not from a cut run: an image cannot say it is
+ * partial) and the autosized machine (only from a run that finished: one
+ * cut short would size for part of the frame); the exit status so far, or
+ * 2 when one fails. */
+static int write_images(job *j, int rc, bool cut, bool finished)
+{
+    const options *o = j->o;
+    if (o->heatmap && !cut) {
+        float lo, hi;
+        rt_image_value_range(j->frame.pixel_cycles, (size_t)j->w * j->h, &lo, &hi);
+        const char *stage = ks_out_stage(j->outs[2].out, j->err, sizeof j->err);
+        if (!stage ||
+            !rt_image_write_heatmap(stage, j->frame.pixel_cycles, j->w, j->h, lo, hi, RT_COLORMAP_VIRIDIS, j->err,
+                                    sizeof j->err) ||
+            ks_out_commit(j->outs[2].out, j->err, sizeof j->err)) {
+            fprintf(stderr, "rtsim: --heatmap %s: %s\n", o->heatmap, j->err);
+            ks_out_discard(j->outs[2].out);
+            rc = rc ? rc : 2;
+        }
     }
-    accel_image aimg = rtsim_image(&img);
-    accel_top_opts o = {0};
-    o.vcd_path = vcd;
-    o.vcd_begin_cycle = vcd_a;
-    o.vcd_end_cycle = vcd_b;
-    o.vcd_filter = vcd_filter;
-    o.exhaustive = exhaustive;
-    top = accel_top_create(cfg, &aimg, &src, &o, err, sizeof err);
-    if (!top)
-        goto fail;
+    if (o->autosize && finished) {
+        FILE *af = NULL;
+        if (accel_top_autosize(j->top, j->cfg, j->err, sizeof j->err) ||
+            !(af = ks_out_begin(j->outs[3].out, j->err, sizeof j->err)) ||
+            (rtcfg_write_ini_file(j->cfg, af), ks_out_commit(j->outs[3].out, j->err, sizeof j->err))) {
+            fprintf(stderr, "rtsim: --autosize-fifos %s\n", j->err);
+            ks_out_discard(j->outs[3].out);
+            rc = rc ? rc : 2;
+        } else if (!o->quiet) {
+            printf("FIFOs       sized configuration written to %s\n", o->autosize);
+        }
+    }
+    return rc;
+}
+
+/* The full model: builds it, runs the frame, prints the summary and writes
+ * the outputs. Returns the exit status. */
+static int run_full(job *j)
+{
+    const options *o = j->o;
+    accel_image aimg = rtsim_image(&j->img);
+    accel_top_opts to = {0};
+    to.vcd_path = o->vcd;
+    to.vcd_begin_cycle = o->vcd_window.a;
+    to.vcd_end_cycle = o->vcd_window.b;
+    to.vcd_filter = o->vcd_filter;
+    to.exhaustive = o->exhaustive;
+    j->top = accel_top_create(j->cfg, &aimg, &j->src, &to, j->err, sizeof j->err);
+    if (!j->top) {
+        fprintf(stderr, "rtsim: %s\n", j->err);
+        return 2;
+    }
     fid_result fres;
     fid_result_full(&fres);
-    if (fid_register_stats(&fres, accel_top_stats(top))) {
-        snprintf(err, sizeof err, "fidelity statistics: %s", ks_stats_error(accel_top_stats(top)));
-        goto fail;
+    if (fid_register_stats(&fres, accel_top_stats(j->top))) {
+        fprintf(stderr, "rtsim: fidelity statistics: %s\n", ks_stats_error(accel_top_stats(j->top)));
+        return 2;
     }
-    progress_state ps = {!quiet && isatty(2), false, 0, 0, 0, src.primary_count, wall(), &src};
-    {
-        /* the estimate: said before a long run starts, and with --progress */
-        rtsim_estimate_params ep;
-        char eerr[1200];
-        if (!rtsim_estimate_load(&ep, eerr, sizeof eerr)) {
-            fprintf(stderr, "rtsim: warning: no run-time estimate: %s\n", eerr);
-        } else {
-            rt_trv_params tp;
-            rt_trv_params_default(&tp, img.width);
-            tp.stack_depth = (int)accel_top_params(top)->trv.core.stack_depth;
-            tp.distance_cull = accel_top_params(top)->trv.core.distance_cull;
-            rtsim_estimate est;
-            rtsim_estimate_frame(&ep, &frame, &img, &tp, accel_top_params(top)->trv_count, exhaustive, &est);
-            if (progress || est.host_s >= ep.announce_s) {
-                char d[32];
-                rtsim_estimate_duration(est.host_s, d, sizeof d);
-                fprintf(stderr, "rtsim: estimate: ~%.0f rays, ~%.3g simulated cycles, ~%s of host time (%s%s)%s\n",
-                        est.rays, est.cycles, d, diffuse ? "diffuse" : "primary", exhaustive ? ", exhaustive" : "",
-                        est.host_s >= ep.announce_s && !progress ? "; --progress prints progress lines" : "");
-            }
-            ps.lines = progress && !isatty(2);
-            ps.every = ep.progress_s;
-            ps.last = ps.t0;
-            ps.est_cycles = est.cycles;
-        }
-    }
+    progress_state ps = {!o->quiet && isatty(2), false, 0, 0, 0, j->src.primary_count, wall(), &j->src};
+    announce(j, &ps);
     double t0 = wall(), c0 = cpu();
     ks_interrupt_polling(true);   /* accel_top_run checks ks_interrupted() every slice */
-    int run_rc = accel_top_run(top, progress_cb, &ps, err, sizeof err);
+    int run_rc = accel_top_run(j->top, progress_cb, &ps, j->err, sizeof j->err);
     double host_s = wall() - t0, cpu_s = cpu() - c0;
     if (ps.on)
         fprintf(stderr, "\r%70s\r", "");
@@ -553,76 +547,77 @@ int main(int argc, char **argv)
     char reason[160] = "";
     if (sig)
         snprintf(reason, sizeof reason, "interrupted by %s at cycle %llu", ks_interrupt_name(sig),
-                 (unsigned long long)accel_top_cycles(top));
-    rc = run_rc ? 1 : 0;
+                 (unsigned long long)accel_top_cycles(j->top));
+    int rc = run_rc ? 1 : 0;
     if (run_rc && !sig)
-        fprintf(stderr, "rtsim: %s\n", err);
-    if (!quiet) {
-        printf("scene       %s, view %s, %ux%u, %s rays\n", sc.name, view->name, w, h,
-               diffuse ? "diffuse" : occlusion ? "occlusion" : "primary");
-        printf("BVH         %u nodes x %u B, %u triangles\n", img.nnodes, img.node_bytes, img.ntris);
+        fprintf(stderr, "rtsim: %s\n", j->err);
+    if (!o->quiet) {
+        printf("scene       %s, view %s, %ux%u, %s rays\n", j->sc.name, j->view->name, j->w, j->h,
+               o->diffuse ? "diffuse" : o->occlusion ? "occlusion" : "primary");
+        printf("BVH         %u nodes x %u B, %u triangles\n", j->img.nnodes, j->img.node_bytes, j->img.ntris);
         if (sig)
             printf("PARTIAL     %s: the figures cover the run until then\n", reason);
-        accel_top_print_summary(top, stdout);
+        accel_top_print_summary(j->top, stdout);
         fid_print_summary(&fres, stdout);
         printf("host        %.3f s CPU (%.3f s wall), %.2f M simulated cycles/s, %.0f K rays/s (CPU)\n", cpu_s, host_s,
-               cpu_s > 0 ? (double)accel_top_cycles(top) / cpu_s / 1e6 : 0.0,
-               cpu_s > 0 ? (double)accel_top_rays(top) / cpu_s / 1e3 : 0.0);
+               cpu_s > 0 ? (double)accel_top_cycles(j->top) / cpu_s / 1e6 : 0.0,
+               cpu_s > 0 ? (double)accel_top_rays(j->top) / cpu_s / 1e3 : 0.0);
     }
     char jhead[4096];
     fid_json_strings(&fres, jhead, sizeof jhead);
-    /* provenance (docs/results.md) */
-    fill_run(&run, scene_name, views_file, view, &sc, machine, cfg, w, h, diffuse, bounces, seed);
-    run.rays = occlusion ? "occlusion" : run.rays;
-    run.has_sim = true, run.sim_cpu_s = cpu_s, run.sim_wall_s = host_s;
-    run.has_cycles = true, run.cycles = accel_top_cycles(top);
-    if (json && write_json(accel_top_stats(top), &run, jhead, outs[0].out, sig ? reason : NULL, err, sizeof err)) {
-        fprintf(stderr, "rtsim: %s\n", err);
+    fill_run(j);
+    j->run->rays = o->occlusion ? "occlusion" : j->run->rays;
+    j->run->has_sim = true, j->run->sim_cpu_s = cpu_s, j->run->sim_wall_s = host_s;
+    j->run->has_cycles = true, j->run->cycles = accel_top_cycles(j->top);
+    if (o->json &&
+        write_json(accel_top_stats(j->top), j->run, jhead, j->outs[0].out, sig ? reason : NULL, j->err, sizeof j->err)) {
+        fprintf(stderr, "rtsim: %s\n", j->err);
         rc = rc ? rc : 2;
     }
-    if (heatmap && !sig) {   /* an image cannot say it is partial: none from a cut run */
-        float lo, hi;
-        rt_image_value_range(frame.pixel_cycles, (size_t)w * h, &lo, &hi);
-        const char *stage = ks_out_stage(outs[2].out, err, sizeof err);
-        if (!stage ||
-            !rt_image_write_heatmap(stage, frame.pixel_cycles, w, h, lo, hi, RT_COLORMAP_VIRIDIS, err, sizeof err) ||
-            ks_out_commit(outs[2].out, err, sizeof err)) {
-            fprintf(stderr, "rtsim: --heatmap %s: %s\n", heatmap, err);
-            ks_out_discard(outs[2].out);
-            rc = rc ? rc : 2;
-        }
-    }
-    if (autosize && run_rc == 0) {
-        FILE *af = NULL;
-        if (accel_top_autosize(top, cfg, err, sizeof err) || !(af = ks_out_begin(outs[3].out, err, sizeof err)) ||
-            (rtcfg_write_ini_file(cfg, af), ks_out_commit(outs[3].out, err, sizeof err))) {
-            fprintf(stderr, "rtsim: --autosize-fifos %s\n", err);
-            ks_out_discard(outs[3].out);
-            rc = rc ? rc : 2;
-        } else if (!quiet) {
-            printf("FIFOs       sized configuration written to %s\n", autosize);
-        }
-    }
+    rc = write_images(j, rc, sig != 0, run_rc == 0);
     if (sig) {
-        /* autosizing from a cut run would size for part of the frame */
         fflush(stdout);
-        fprintf(stderr, "rtsim: %s; %s%s%s%s\n", reason, vcd ? "the VCD ends there, " : "",
-                json ? "the JSON statistics are marked partial" : "statistics above are partial",
-                autosize ? ", no --autosize-fifos file written" : "", heatmap ? ", no heatmap written" : "");
+        fprintf(stderr, "rtsim: %s; %s%s%s%s\n", reason, o->vcd ? "the VCD ends there, " : "",
+                o->json ? "the JSON statistics are marked partial" : "statistics above are partial",
+                o->autosize ? ", no --autosize-fifos file written" : "", o->heatmap ? ", no heatmap written" : "");
         rc = ks_interrupt_exit_status();
     }
-    goto done;
-fail:
-    fprintf(stderr, "rtsim: %s\n", err);
-    rc = 2;
-done:
+    return rc;
+}
+
+/* Loads, runs (full model or a cheaper level) and writes; the exit status. */
+static int simulate(const options *o, cli_run_info *run)
+{
+    static job j;   /* zero: what a step did not fill is freed as empty */
+    j.o = o, j.run = run;
+    int rc;
+    if (!load_machine(&j) || !plan_outputs(&j) || !load_scene(&j)) {
+        fprintf(stderr, "rtsim: %s\n", j.err);
+        rc = 2;
+    } else if (o->level != FID_FULL || o->accuracy > 0) {
+        rc = run_fidelity(&j);   /* a cheaper level or the automatic choice: fidelity/ runs it */
+    } else {
+        rc = run_full(&j);
+    }
     ks_out_discard_all();   /* outputs not committed (failure, interruption): no temporaries left */
-    accel_top_destroy(top);
-    rtsim_frame_free(&frame);
-    rt_bvh_image_free(&img);
-    rt_scene_free(&sc);
-    if (cfg)
-        rtcfg_destroy(cfg);
-    free(sets);
+    accel_top_destroy(j.top);
+    rtsim_frame_free(&j.frame);
+    rt_bvh_image_free(&j.img);
+    rt_scene_free(&j.sc);
+    if (j.cfg)
+        rtcfg_destroy(j.cfg);
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    static cli_run_info run;   /* provenance of the JSON (cli/run_info.h) */
+    cli_run_init(&run, "rtsim", argc, argv);
+    ks_interrupt_install("rtsim");
+    options o;
+    int rc = parse_options(argc, argv, &o);
+    if (rc == CLI_GO_ON)
+        rc = o.help_module ? help_module(o.help_module) : simulate(&o, &run);
+    free(o.sets.v);
     return rc;
 }

@@ -16,11 +16,8 @@
  * stdout "-", devices and pipes, two outputs naming one file refused; on an
  * error the outputs of this run are removed. Deterministic: the same
  * arguments give the same counts, images and log bytes. */
-#include <errno.h>
-#include <getopt.h>
 #include <inttypes.h>
 #include <limits.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -40,86 +37,39 @@
 #include "tracer/trace_log.h"
 #include "tracer/traverse.h"
 
+#include "cli/options.h"
 #include "cli/output_path.h"
 #include "cli/run_info.h"
 #include "kernel/interrupt.h"
 #include "cli/version.h"
 #define BOUNCES_MAX 32            /* rt_ray.bounce is 8 bits; 32 is far beyond the paper's 4 */
-/* Issue 3: at least 99.999% of rays identical to Embree on the built-ins. */
-#define MISMATCH_RATE_DEFAULT 1e-5
 
-static void usage(FILE *o)
+static double now_s(void) { return cli_run_clock(CLOCK_MONOTONIC); }
+
+/* ---- options ---- */
+
+typedef struct options {
+    const char *scene, *view, *views, *log, *image, *hm_visits, *hm_tris, *json, *read_log;
+    int width;              /* BVH width (--bvh) */
+    uint64_t leaf_size, stack_depth, bounces, seed;
+    int rays;               /* index in ray_kinds */
+    bool diffuse, occlusion, check_embree, quiet;
+    bool bvh_given, rays_given, res_given, bounces_given, stack_given;   /* on the command line */
+    ks_out *out_log, *out_image, *out_hm_visits, *out_hm_tris, *out_json;   /* output plans */
+    struct resolution {
+        uint32_t w, h;
+    } res;
+    double max_mismatch_rate;
+} options;
+
+enum { RAYS_PRIMARY, RAYS_DIFFUSE, RAYS_OCCLUSION };
+static const char *const ray_kinds[] = {"primary", "diffuse", "occlusion", NULL};
+
+/* --bvh: bvh2 or mbvhN, N = 2..8 (the width) */
+static bool parse_bvh(const char *text, void *to, char *err, size_t errlen)
 {
-    fprintf(o,
-            "usage: rttrace SCENE [options]\n"
-            "       rttrace SCENE --read-log FILE [--bvh ...] [--leaf-size N] [--json FILE]\n"
-            "Traces a view of SCENE (built-in name: interior, hairball, city, forest; or .obj/.ply[.gz]/.scene)\n"
-            "with the reference traversal of the accelerator.\n"
-            "  --view NAME            view to render (default: the scene's first)\n"
-            "  --views FILE           views.txt-format file replacing the scene's views\n"
-            "  --bvh bvh2|mbvh4|mbvhN BVH width, N = 2..8 (default mbvh4)\n"
-            "  --leaf-size N          max triangles per leaf, 1..%u (default 4)\n"
-            "  --rays primary|diffuse|occlusion\n"
-            "                         primary rays, diffuse paths, or primary rays and %d ambient-\n"
-            "                         occlusion rays per hit, any hit ends them (default primary)\n"
-            "  --res WxH              resolution, 1..65535 each (default %dx%d)\n"
-            "  --bounces N            diffuse bounces per path, 0..%d (default %d)\n"
-            "  --seed N               random seed of the bounces and AO rays, 0..2^64-1 (default 1)\n"
-            "  --stack-depth N        traversal stack entries, 1..4096 (default %d, the paper's);\n"
-            "                         a ray overflowing it is a validation failure (exit 1)\n"
-            "  --check-embree         compare every ray's closest hit (occlusion rays: occluded or\n"
-            "                         not, rtcOccluded1) with Embree 3\n"
-            "  --max-mismatch-rate R  fraction of rays with an explained difference from Embree (tie,\n"
-            "                         coplanar, gap, edge, t_round), 0..1, above which a warning is\n"
-            "                         printed (default %g); only an unexplained one ('other') fails\n"
-            "  --log FILE             write the binary trace log (docs/tracer-log.md)\n"
-            "  --image FILE           shaded frame (.png or .exr)\n"
-            "  --heatmap-visits FILE  node visits per pixel (.png or .exr; EXR keeps raw values)\n"
-            "  --heatmap-tris FILE    triangle tests per pixel (.png or .exr)\n"
-            "  --json FILE            statistics as one JSON object ('-' = stdout)\n"
-            "  --read-log FILE        validate FILE against SCENE's BVH instead of tracing\n"
-            "  --quiet                no summary, no progress bar\n"
-            "  --help, --version\n"
-            "Exit status: 0 ok, 1 Embree check failed, 2 bad usage or input.\n",
-            RT_LEAF_MAX, RT_AO_SAMPLES_DEFAULT, RT_DEFAULT_WIDTH, RT_DEFAULT_HEIGHT, BOUNCES_MAX, RT_MAX_BOUNCES_DEFAULT,
-            RT_STACK_DEPTH_DEFAULT, MISMATCH_RATE_DEFAULT);
-}
-
-static double now_s(void)
-{
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-/* ---- option parsing ---- */
-
-static int bad_usage(const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    fputs("rttrace: ", stderr);
-    vfprintf(stderr, fmt, ap);
-    fputs("\n(rttrace --help for usage)\n", stderr);
-    va_end(ap);
-    return 2;
-}
-
-static bool parse_u64(const char *text, uint64_t lo, uint64_t hi, uint64_t *out)
-{
-    if (!text || !*text || *text == '-' || *text == '+')
-        return false;
-    char *end;
-    errno = 0;
-    unsigned long long v = strtoull(text, &end, 10);
-    if (errno || *end || v < lo || v > hi)
-        return false;
-    *out = v;
-    return true;
-}
-
-static bool parse_bvh(const char *text, int *width)
-{
+    (void)err, (void)errlen;
+    int *width = to;
     if (strcmp(text, "bvh2") == 0) {
         *width = 2;
         return true;
@@ -131,26 +81,115 @@ static bool parse_bvh(const char *text, int *width)
     return false;
 }
 
-/* An image output must have a supported extension (its path is planned with
- * the others through the output layer). */
-static int check_image_type(const char *opt, const char *path)
+/* --res: WxH (tracer/camera.h) */
+static bool parse_res(const char *text, void *to, char *err, size_t errlen)
 {
-    if (path && !rt_image_format_supported(path))
-        return bad_usage("%s %s: unsupported image type; allowed: .png, .exr", opt, path);
-    return 0;
+    struct resolution *r = to;
+    return rt_parse_resolution(text, &r->w, &r->h, err, errlen);
 }
 
-typedef struct options {
-    const char *scene, *view, *views, *log, *image, *hm_visits, *hm_tris, *json, *read_log;
-    int width;              /* 0 = not given */
-    int leaf_size;
-    int stack_depth;
-    bool diffuse, occlusion, check_embree, quiet, rays_given, res_given;
-    ks_out *out_log, *out_image, *out_hm_visits, *out_hm_tris, *out_json;   /* output plans */
-    uint32_t res_w, res_h, bounces;
-    uint64_t seed;
-    double max_mismatch_rate;
-} options;
+/* Reads argv into o, checks the combinations and plans every output before
+ * any work (kernel/out_file.h): CLI_GO_ON to run, else the exit status
+ * (0 after --help or --version, 2 with a message naming the option). */
+static int parse_options(int argc, char **argv, options *o)
+{
+    const cli_opt table[] = {
+        {.name = "view", .kind = CLI_STRING, .to.str = &o->view, .arg = "NAME",
+         .help = "view to render (default: the scene's first)"},
+        {.name = "views", .kind = CLI_STRING, .to.str = &o->views, .arg = "FILE",
+         .help = "views.txt-format file replacing the scene's views"},
+        {.name = "bvh", .kind = CLI_CUSTOM, .to.custom = &o->width, .parse = parse_bvh, .arg = "bvh2|mbvh4|mbvhN",
+         .def = "mbvh4", .given = &o->bvh_given, .what = "is not a BVH type; allowed: bvh2, mbvh4, mbvhN with N = 2..8",
+         .help = "BVH width, N = 2..8 (default {default})"},
+        {.name = "leaf-size", .kind = CLI_UINT, .to.u = &o->leaf_size, .arg = "N", .min = 1, .max = RT_LEAF_MAX,
+         .def = "4", .help = "max triangles per leaf, {range} (default {default})"},
+        {.name = "rays", .kind = CLI_CHOICE, .to.choice = &o->rays, .choices = ray_kinds, .def = "primary",
+         .given = &o->rays_given, .what = "is not a ray type; allowed: %s",
+         .help = "primary rays, diffuse paths, or primary rays and " CLI_STR(RT_AO_SAMPLES_DEFAULT) " ambient-\n"
+                 "occlusion rays per hit, any hit ends them (default {default})"},
+        {.name = "res", .kind = CLI_CUSTOM, .to.custom = &o->res, .parse = parse_res, .arg = "WxH",
+         .def = CLI_STR(RT_DEFAULT_WIDTH) "x" CLI_STR(RT_DEFAULT_HEIGHT), .given = &o->res_given,
+         .help = "resolution, 1..65535 each (default {default})"},
+        {.name = "bounces", .kind = CLI_UINT, .to.u = &o->bounces, .arg = "N", .min = 0, .max = BOUNCES_MAX,
+         .def = CLI_STR(RT_MAX_BOUNCES_DEFAULT), .given = &o->bounces_given,
+         .help = "diffuse bounces per path, {range} (default {default})"},
+        {.name = "seed", .kind = CLI_UINT, .to.u = &o->seed, .arg = "N", .min = 0, .max = UINT64_MAX, .def = "1",
+         .help = "random seed of the bounces and AO rays, 0..2^64-1 (default {default})"},
+        {.name = "stack-depth", .kind = CLI_UINT, .to.u = &o->stack_depth, .arg = "N", .min = 1, .max = 4096,
+         .def = CLI_STR(RT_STACK_DEPTH_DEFAULT), .given = &o->stack_given,
+         .help = "traversal stack entries, {range} (default {default}, the paper's);\n"
+                 "a ray overflowing it is a validation failure (exit 1)"},
+        {.name = "check-embree", .kind = CLI_FLAG, .to.flag = &o->check_embree,
+         .help = "compare every ray's closest hit (occlusion rays: occluded or\n"
+                 "not, rtcOccluded1) with Embree 3"},
+        /* Issue 3: at least 99.999% of rays identical to Embree on the built-ins. */
+        {.name = "max-mismatch-rate", .kind = CLI_REAL, .to.real = &o->max_mismatch_rate, .arg = "R", .lo = 0, .hi = 1,
+         .def = "1e-05",
+         .help = "fraction of rays with an explained difference from Embree (tie,\n"
+                 "coplanar, gap, edge, t_round), {range}, above which a warning is\n"
+                 "printed (default {default}); only an unexplained one ('other') fails"},
+        {.name = "log", .kind = CLI_STRING, .to.str = &o->log, .arg = "FILE",
+         .help = "write the binary trace log (docs/tracer-log.md)"},
+        {.name = "image", .kind = CLI_STRING, .to.str = &o->image, .arg = "FILE", .help = "shaded frame (.png or .exr)"},
+        {.name = "heatmap-visits", .kind = CLI_STRING, .to.str = &o->hm_visits, .arg = "FILE",
+         .help = "node visits per pixel (.png or .exr; EXR keeps raw values)"},
+        {.name = "heatmap-tris", .kind = CLI_STRING, .to.str = &o->hm_tris, .arg = "FILE",
+         .help = "triangle tests per pixel (.png or .exr)"},
+        {.name = "json", .kind = CLI_STRING, .to.str = &o->json, .arg = "FILE",
+         .help = "statistics as one JSON object ('-' = stdout)"},
+        {.name = "read-log", .kind = CLI_STRING, .to.str = &o->read_log, .arg = "FILE",
+         .help = "validate FILE against SCENE's BVH instead of tracing"},
+        {.name = "quiet", .kind = CLI_FLAG, .to.flag = &o->quiet, .help = "no summary, no progress bar"},
+        {.name = "help", .kind = CLI_HELP, .help = ""},
+        {.name = "version", .kind = CLI_VERSION},
+        {0}};
+    const cli_tool tool = {
+        .name = "rttrace", .opts = table, .indent = 2, .column = 25,
+        .about = "usage: rttrace SCENE [options]\n"
+                 "       rttrace SCENE --read-log FILE [--bvh ...] [--leaf-size N] [--json FILE]\n"
+                 "Traces a view of SCENE (built-in name: interior, hairball, city, forest; or "
+                 ".obj/.ply[.gz]/.scene)\n"
+                 "with the reference traversal of the accelerator.\n",
+        .footer = "Exit status: 0 ok, 1 Embree check failed, 2 bad usage or input.\n",
+        .bad_value = "%s: '%s' %s", .uint_what = "is not an integer in %s", .real_what = "is not a number in %s",
+        .unknown = "unknown option %s", .missing = "%s needs a value", .hint = "(rttrace --help for usage)",
+    };
+    memset(o, 0, sizeof *o);
+    int args, rc = cli_parse(&tool, argc, argv, &args);
+    if (rc != CLI_GO_ON)
+        return rc;
+    if (args != argc - 1)
+        return cli_usage_error(&tool, args == argc ? "missing SCENE argument"
+                                                   : "expected one SCENE argument, got '%s' too",
+                               args < argc - 1 ? argv[args + 1] : "");
+    o->scene = argv[args];
+    o->diffuse = o->rays == RAYS_DIFFUSE;
+    o->occlusion = o->rays == RAYS_OCCLUSION;
+    if (o->bounces_given && !o->diffuse)
+        return cli_usage_error(&tool, "--bounces: only with --rays diffuse");
+    if (o->occlusion && o->log)
+        return cli_usage_error(&tool, "--log: not with --rays occlusion (trace logs hold primary rays and diffuse "
+                                      "paths)");
+    if (o->read_log && (o->log || o->image || o->hm_visits || o->hm_tris || o->check_embree || o->rays_given ||
+                        o->res_given || o->view || o->views || o->stack_given || o->bounces_given))
+        return cli_usage_error(&tool, "--read-log: only --bvh, --leaf-size, --json and --quiet apply (the log "
+                                      "names its rays, resolution, view and seed)");
+    /* every output before any work; the trace log and images are written
+     * under the plan's staged name (writers that open by name) */
+    cli_output outs[5] = {{"--log", o->log, NULL}, {"--image", o->image, NULL},
+                          {"--heatmap-visits", o->hm_visits, NULL}, {"--heatmap-tris", o->hm_tris, NULL},
+                          {"--json", o->json, NULL}};
+    for (int i = 1; i <= 3; i++)   /* an image must have a supported extension */
+        if (outs[i].path && !rt_image_format_supported(outs[i].path))
+            return cli_usage_error(&tool, "%s %s: unsupported image type; allowed: .png, .exr", outs[i].opt,
+                                   outs[i].path);
+    char err[4600];
+    if (!cli_plan_outputs(outs, 5, err, sizeof err))
+        return cli_usage_error(&tool, "%s", err);
+    o->out_log = outs[0].out, o->out_image = outs[1].out, o->out_hm_visits = outs[2].out;
+    o->out_hm_tris = outs[3].out, o->out_json = outs[4].out;
+    return CLI_GO_ON;
+}
 
 /* ---- statistics ---- */
 
@@ -283,7 +322,7 @@ static void fill_run(const run_info *ri, const stats *s, bool read_mode, const r
     cli_run_lines_add(&l, "bvh.width", "", "", v);
     snprintf(v, sizeof v, "%d", ri->bp->leaf_size);
     cli_run_lines_add(&l, "bvh.leaf_size", "", "", v);
-    snprintf(v, sizeof v, "%d", o->stack_depth ? o->stack_depth : RT_STACK_DEPTH_DEFAULT);
+    snprintf(v, sizeof v, "%" PRIu64, o->stack_depth);
     cli_run_lines_add(&l, "traversal.stack_depth", "", "", v);
     g_run.has_config_hash = cli_run_lines_hash(&l, &g_run.config_hash);
     if (read_mode) {
@@ -299,7 +338,7 @@ static void fill_run(const run_info *ri, const stats *s, bool read_mode, const r
         g_run.sim_cpu_s = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID) - g_run.cpu0;
     } else {
         g_run.view = ri->view->name;
-        g_run.width = o->res_w, g_run.height = o->res_h;
+        g_run.width = o->res.w, g_run.height = o->res.h;
         g_run.rays = o->diffuse ? "diffuse" : o->occlusion ? "occlusion" : "primary";
         g_run.has_bounces = g_run.has_seed = o->diffuse;
         g_run.bounces = o->bounces, g_run.seed = o->seed;
@@ -363,8 +402,8 @@ static int write_json(const char *path, const run_info *ri, const stats *s, bool
         const options *o = ri->o;
         json_s(f, "view", ri->view->name, &first);
         json_s(f, "ray_type", o->diffuse ? "diffuse" : o->occlusion ? "occlusion" : "primary", &first);
-        json_u(f, "width_px", o->res_w, &first);
-        json_u(f, "height_px", o->res_h, &first);
+        json_u(f, "width_px", o->res.w, &first);
+        json_u(f, "height_px", o->res.h, &first);
         json_u(f, "max_bounces", o->diffuse ? o->bounces : 0, &first);
         json_u(f, "seed", o->seed, &first);
         json_u(f, "rays", s->rays, &first);
@@ -523,263 +562,146 @@ static bool trace_one(tracer_ctx *c, const rt_ray *ray, rt_hit *hit, char *err, 
     return true;
 }
 
-int main(int argc, char **argv)
-{
-    const double t0 = now_s();
-    cli_run_init(&g_run, "rttrace", argc, argv);
-    ks_interrupt_install("rttrace");
-    static const struct option longopts[] = {
-        {"view", required_argument, 0, 'V'},      {"views", required_argument, 0, 'W'},
-        {"bvh", required_argument, 0, 'b'},       {"leaf-size", required_argument, 0, 'l'},
-        {"rays", required_argument, 0, 'r'},      {"res", required_argument, 0, 'R'},
-        {"bounces", required_argument, 0, 'n'},   {"seed", required_argument, 0, 's'},
-        {"check-embree", no_argument, 0, 'e'},    {"max-mismatch-rate", required_argument, 0, 'm'},
-        {"log", required_argument, 0, 'L'},       {"image", required_argument, 0, 'i'},
-        {"heatmap-visits", required_argument, 0, 'H'}, {"heatmap-tris", required_argument, 0, 'T'},
-        {"json", required_argument, 0, 'j'},      {"read-log", required_argument, 0, 'D'},
-        {"quiet", no_argument, 0, 'q'},           {"help", no_argument, 0, 'h'},
-        {"version", no_argument, 0, 'v'},         {"stack-depth", required_argument, 0, 'S'},
-        {0, 0, 0, 0}};
-    options o;
-    memset(&o, 0, sizeof o);
-    o.leaf_size = 4;
-    o.res_w = RT_DEFAULT_WIDTH;
-    o.res_h = RT_DEFAULT_HEIGHT;
-    o.bounces = RT_MAX_BOUNCES_DEFAULT;
-    o.seed = 1;
-    o.max_mismatch_rate = MISMATCH_RATE_DEFAULT;
-    bool bounces_given = false;
-    char err[4600];
-    int c;
-    opterr = 0;
-    while ((c = getopt_long(argc, argv, ":", longopts, NULL)) != -1) {
-        uint64_t v;
-        switch (c) {
-        case 'V': o.view = optarg; break;
-        case 'W': o.views = optarg; break;
-        case 'b':
-            if (!parse_bvh(optarg, &o.width))
-                return bad_usage("--bvh: '%s' is not a BVH type; allowed: bvh2, mbvh4, mbvhN with N = 2..8", optarg);
-            break;
-        case 'l':
-            if (!parse_u64(optarg, 1, RT_LEAF_MAX, &v))
-                return bad_usage("--leaf-size: '%s' is not an integer in 1..%u", optarg, RT_LEAF_MAX);
-            o.leaf_size = (int)v;
-            break;
-        case 'r':
-            o.rays_given = true;
-            if (strcmp(optarg, "primary") && strcmp(optarg, "diffuse") && strcmp(optarg, "occlusion"))
-                return bad_usage("--rays: '%s' is not a ray type; allowed: primary, diffuse, occlusion", optarg);
-            o.diffuse = strcmp(optarg, "diffuse") == 0;
-            o.occlusion = strcmp(optarg, "occlusion") == 0;
-            break;
-        case 'R':
-            o.res_given = true;
-            if (!rt_parse_resolution(optarg, &o.res_w, &o.res_h, err, sizeof err))
-                return bad_usage("--res: %s", err);
-            break;
-        case 'n':
-            if (!parse_u64(optarg, 0, BOUNCES_MAX, &v))
-                return bad_usage("--bounces: '%s' is not an integer in 0..%d", optarg, BOUNCES_MAX);
-            o.bounces = (uint32_t)v;
-            bounces_given = true;
-            break;
-        case 's':
-            if (!parse_u64(optarg, 0, UINT64_MAX, &v))
-                return bad_usage("--seed: '%s' is not an integer in 0..18446744073709551615", optarg);
-            o.seed = v;
-            break;
-        case 'S':
-            if (!parse_u64(optarg, 1, 4096, &v))
-                return bad_usage("--stack-depth: '%s' is not an integer in 1..4096", optarg);
-            o.stack_depth = (int)v;
-            break;
-        case 'e': o.check_embree = true; break;
-        case 'm': {
-            char *end;
-            errno = 0;
-            double r = strtod(optarg, &end);
-            if (errno || *end || end == optarg || !(r >= 0.0 && r <= 1.0))
-                return bad_usage("--max-mismatch-rate: '%s' is not a number in 0..1", optarg);
-            o.max_mismatch_rate = r;
-            break;
-        }
-        case 'L': o.log = optarg; break;
-        case 'i': o.image = optarg; break;
-        case 'H': o.hm_visits = optarg; break;
-        case 'T': o.hm_tris = optarg; break;
-        case 'j': o.json = optarg; break;
-        case 'D': o.read_log = optarg; break;
-        case 'q': o.quiet = true; break;
-        case 'h': usage(stdout); return 0;
-        case 'v': printf("rttrace %s (git %s)\n", RTSIM_VERSION, RTSIM_GIT); return 0;
-        case ':': return bad_usage("%s needs a value", argv[optind - 1]);
-        default: return bad_usage("unknown option %s", argv[optind - 1]);
-        }
-    }
-    if (optind != argc - 1)
-        return bad_usage(optind == argc ? "missing SCENE argument" : "expected one SCENE argument, got '%s' too",
-                         optind < argc - 1 ? argv[optind + 1] : "");
-    o.scene = argv[optind];
-    if (bounces_given && !o.diffuse)
-        return bad_usage("--bounces: only with --rays diffuse");
-    if (o.occlusion && o.log)
-        return bad_usage("--log: not with --rays occlusion (trace logs hold primary rays and diffuse paths)");
-    if (o.read_log && (o.log || o.image || o.hm_visits || o.hm_tris || o.check_embree || o.rays_given ||
-                       o.res_given || o.view || o.views || o.stack_depth || bounces_given))
-        return bad_usage("--read-log: only --bvh, --leaf-size, --json and --quiet apply (the log names its rays, "
-                         "resolution, view and seed)");
-    int rc;
-    if ((rc = check_image_type("--image", o.image)) || (rc = check_image_type("--heatmap-visits", o.hm_visits)) ||
-        (rc = check_image_type("--heatmap-tris", o.hm_tris)))
-        return rc;
-    /* every output before any work; the trace log and images are written
-     * under the plan's staged name (writers that open by name) */
-    cli_output outs[5] = {{"--log", o.log, NULL}, {"--image", o.image, NULL}, {"--heatmap-visits", o.hm_visits, NULL},
-                          {"--heatmap-tris", o.hm_tris, NULL}, {"--json", o.json, NULL}};
-    if (!cli_plan_outputs(outs, 5, err, sizeof err))
-        return bad_usage("%s", err);
-    o.out_log = outs[0].out, o.out_image = outs[1].out, o.out_hm_visits = outs[2].out;
-    o.out_hm_tris = outs[3].out, o.out_json = outs[4].out;
+/* The scene, its view and camera, and its BVH: what a trace or a log check
+ * runs on. */
+typedef struct world {
+    rt_scene sc;
+    const rt_view *view;
+    rt_camera cam;
+    rt_bvh_params bp;
+    rt_bvh_image img;
+    rt_bvh_stats bs;
+} world;
 
-    rt_tlog_header loghdr;
-    if (o.read_log) {
-        if (!rt_tlog_read_header(o.read_log, &loghdr, err, sizeof err)) {
+/* Loads the scene, picks the view, sets up the camera and builds the BVH
+ * (the width of a --read-log log's unless --bvh says); 0 or 2 (said). */
+static int load_world(options *o, world *w)
+{
+    char err[4600];
+    if (o->read_log) {
+        rt_tlog_header loghdr;
+        if (!rt_tlog_read_header(o->read_log, &loghdr, err, sizeof err)) {
             fprintf(stderr, "rttrace: --read-log: %s\n", err);
             return 2;
         }
-        if (!o.width)
-            o.width = (int)loghdr.bvh_width;   /* the log names its BVH width */
+        if (!o->bvh_given)
+            o->width = (int)loghdr.bvh_width;   /* the log names its BVH width */
     }
-    if (!o.width)
-        o.width = 4;
-
-    /* scene, view */
-    rt_scene sc;
-    if (!rt_scene_load(o.scene, &sc, err, sizeof err)) {
+    if (!rt_scene_load(o->scene, &w->sc, err, sizeof err)) {
         fprintf(stderr, "rttrace: %s\n", err);
         return 2;
     }
-    if (o.views && !rt_scene_set_views_file(&sc, o.views, err, sizeof err)) {
+    if (o->views && !rt_scene_set_views_file(&w->sc, o->views, err, sizeof err)) {
         fprintf(stderr, "rttrace: --views: %s\n", err);
-        rt_scene_free(&sc);
         return 2;
     }
-    const rt_view *view = rt_scene_view(&sc, o.view, err, sizeof err);
-    if (!view) {
+    w->view = rt_scene_view(&w->sc, o->view, err, sizeof err);
+    if (!w->view) {
         fprintf(stderr, "rttrace: --view: %s\n", err);
-        rt_scene_free(&sc);
         return 2;
     }
-    rt_camera cam;
-    if (!rt_camera_init(&cam, view, o.res_w, o.res_h, err, sizeof err)) {
-        fprintf(stderr, "rttrace: view %s: %s\n", view->name, err);
-        rt_scene_free(&sc);
+    if (!rt_camera_init(&w->cam, w->view, o->res.w, o->res.h, err, sizeof err)) {
+        fprintf(stderr, "rttrace: view %s: %s\n", w->view->name, err);
         return 2;
     }
-
-    /* BVH */
-    rt_bvh_params bp;
-    rt_bvh_params_default(&bp);
-    bp.width = o.width;
-    bp.leaf_size = o.leaf_size;
-    rt_bvh_image img;
-    rt_bvh_stats bs;
-    if (!rt_bvh_build(&sc.mesh, &bp, &img, &bs, err, sizeof err)) {
+    rt_bvh_params_default(&w->bp);
+    w->bp.width = o->width;
+    w->bp.leaf_size = (int)o->leaf_size;
+    if (!rt_bvh_build(&w->sc.mesh, &w->bp, &w->img, &w->bs, err, sizeof err)) {
         fprintf(stderr, "rttrace: BVH: %s\n", err);
-        rt_scene_free(&sc);
         return 2;
     }
-    if (o.read_log) {
-        rc = read_log_mode(&o, &sc, &bp, &bs, &img, t0);
-        rt_bvh_image_free(&img);
-        rt_scene_free(&sc);
-        return rc;
-    }
-    run_info ri = {&o, &sc, view, &bp, &bs, &img};
-    if (!o.quiet) {
-        print_build(&ri);
-        fflush(stdout);
-    }
+    return 0;
+}
 
-    stats s;
-    memset(&s, 0, sizeof s);
-    tracer_ctx tc;
-    memset(&tc, 0, sizeof tc);
-    tc.o = &o;
-    tc.sc = &sc;
-    tc.img = &img;
-    tc.s = &s;
-    rt_trv_params_default(&tc.tp, bp.width);
-    if (o.stack_depth)
-        tc.tp.stack_depth = o.stack_depth;
-    const size_t npix = (size_t)o.res_w * o.res_h;
-    tc.rgb = calloc(3 * npix, sizeof(float));
-    tc.hm_visits = calloc(npix, sizeof(float));
-    tc.hm_tris = calloc(npix, sizeof(float));
-    rc = 0;
-    if (!tc.rgb || !tc.hm_visits || !tc.hm_tris) {
-        fprintf(stderr, "rttrace: out of memory for %ux%u pixels\n", o.res_w, o.res_h);
-        rc = 2;
-        goto done;
+/* The tracer's buffers, the Embree scene (--check-embree) and the log
+ * writer (--log); 0 or 2 (said). */
+static int tracer_open(tracer_ctx *tc, const options *o, const world *w, stats *s)
+{
+    char err[4600];
+    tc->o = o;
+    tc->sc = &w->sc;
+    tc->img = &w->img;
+    tc->s = s;
+    rt_trv_params_default(&tc->tp, w->bp.width);
+    tc->tp.stack_depth = (int)o->stack_depth;
+    const size_t npix = (size_t)o->res.w * o->res.h;
+    tc->rgb = calloc(3 * npix, sizeof(float));
+    tc->hm_visits = calloc(npix, sizeof(float));
+    tc->hm_tris = calloc(npix, sizeof(float));
+    if (!tc->rgb || !tc->hm_visits || !tc->hm_tris) {
+        fprintf(stderr, "rttrace: out of memory for %ux%u pixels\n", o->res.w, o->res.h);
+        return 2;
     }
-    if (o.check_embree) {
-        tc.embree = rt_embree_create(&sc.mesh, RT_EMBREE_ROBUST, err, sizeof err);
-        if (!tc.embree) {
+    if (o->check_embree) {
+        tc->embree = rt_embree_create(&w->sc.mesh, RT_EMBREE_ROBUST, err, sizeof err);
+        if (!tc->embree) {
             fprintf(stderr, "rttrace: --check-embree: %s\n", err);
-            rc = 2;
-            goto done;
+            return 2;
         }
-        s.embree_build_s = rt_embree_build_seconds(tc.embree);
+        s->embree_build_s = rt_embree_build_seconds(tc->embree);
     }
-    if (o.log) {
+    if (o->log) {
         rt_tlog_info info;
         memset(&info, 0, sizeof info);
-        info.mesh_hash = rt_mesh_hash(&sc.mesh);
-        info.res_width = o.res_w;
-        info.res_height = o.res_h;
-        info.ray_kind = o.diffuse ? RT_TLOG_RAYS_DIFFUSE : RT_TLOG_RAYS_PRIMARY;
-        info.max_bounces = o.diffuse ? o.bounces : 0;
-        info.seed = o.seed;
+        info.mesh_hash = rt_mesh_hash(&w->sc.mesh);
+        info.res_width = o->res.w;
+        info.res_height = o->res.h;
+        info.ray_kind = o->diffuse ? RT_TLOG_RAYS_DIFFUSE : RT_TLOG_RAYS_PRIMARY;
+        info.max_bounces = o->diffuse ? (uint32_t)o->bounces : 0;
+        info.seed = o->seed;
         info.has_view = true;
-        info.view = *view;
-        info.mesh = &sc.mesh;
-        const char *stage = ks_out_stage(o.out_log, err, sizeof err);
-        tc.log = stage ? rt_tlog_writer_open(stage, &img, &tc.tp, &info, err, sizeof err) : NULL;
-        if (!tc.log) {
+        info.view = *w->view;
+        info.mesh = &w->sc.mesh;
+        const char *stage = ks_out_stage(o->out_log, err, sizeof err);
+        tc->log = stage ? rt_tlog_writer_open(stage, &w->img, &tc->tp, &info, err, sizeof err) : NULL;
+        if (!tc->log) {
             fprintf(stderr, "rttrace: --log: %s\n", err);
-            rc = 2;
-            goto done;
+            return 2;
         }
     }
+    return 0;
+}
 
-    /* trace: pixel by pixel, each path's rays one after the other */
-    const float ao_tmax = rt_ao_distance(&sc.mesh);
-    progress pg = {!o.quiet && isatty(2), now_s(), 0, npix};
-    const double tt0 = now_s(), tc0 = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID);
-    ks_interrupt_polling(true);   /* checked once a pixel */
-    size_t pixels_done = 0;
-    for (uint32_t py = 0; py < o.res_h && rc == 0 && !ks_interrupted(); py++) {
-        for (uint32_t px = 0; px < o.res_w && !ks_interrupted(); px++) {
-            rt_ray ray = rt_camera_primary_ray(&cam, px, py);
+static void tracer_close(tracer_ctx *tc)
+{
+    rt_tlog_writer_abort(tc->log);
+    rt_embree_free(tc->embree);
+    free(tc->rgb);
+    free(tc->hm_visits);
+    free(tc->hm_tris);
+}
+
+/* Traces the frame pixel by pixel, each path's rays one after the other,
+ * until done or interrupted (*done: pixels traced); 0, or 2 on a log error
+ * (said). */
+static int trace_pixels(tracer_ctx *tc, const world *w, float ao_tmax, progress *pg, size_t *done)
+{
+    const options *o = tc->o;
+    const rt_mesh *mesh = &w->sc.mesh;
+    char err[4600];
+    int rc = 0;
+    for (uint32_t py = 0; py < o->res.h && rc == 0 && !ks_interrupted(); py++) {
+        for (uint32_t px = 0; px < o->res.w && !ks_interrupted(); px++) {
+            rt_ray ray = rt_camera_primary_ray(&w->cam, px, py);
             rt_hit hit;
-            const size_t pix = (size_t)py * o.res_w + px;
-            if (!trace_one(&tc, &ray, &hit, err, sizeof err)) {
+            const size_t pix = (size_t)py * o->res.w + px;
+            if (!trace_one(tc, &ray, &hit, err, sizeof err)) {
                 fprintf(stderr, "rttrace: --log: %s\n", err);
                 rc = 2;
                 break;
             }
             rt_vec3 col;
-            if (o.occlusion) {
+            if (o->occlusion) {
                 /* the headlight shade times the share of open AO rays */
-                col = rt_shade_headlight(&sc.mesh, &ray, &hit);
+                col = rt_shade_headlight(mesh, &ray, &hit);
                 uint32_t n = 0, open = 0;
                 rt_ray ao;
                 rt_hit aoh;
                 for (uint32_t k = 0; rc == 0 && k < RT_AO_SAMPLES_DEFAULT; k++) {
-                    if (!rt_ao_ray(&sc.mesh, &ray, &hit, o.seed, k, ao_tmax, &ao))
+                    if (!rt_ao_ray(mesh, &ray, &hit, o->seed, k, ao_tmax, &ao))
                         break;
-                    if (!trace_one(&tc, &ao, &aoh, err, sizeof err))
+                    if (!trace_one(tc, &ao, &aoh, err, sizeof err))
                         rc = 2;
                     n++;
                     open += aoh.prim == RT_NO_HIT;
@@ -788,16 +710,16 @@ int main(int argc, char **argv)
                     const float f = (float)open / (float)n;
                     col = (rt_vec3){col.x * f, col.y * f, col.z * f};
                 }
-            } else if (!o.diffuse) {
-                col = rt_shade_headlight(&sc.mesh, &ray, &hit);
+            } else if (!o->diffuse) {
+                col = rt_shade_headlight(mesh, &ray, &hit);
             } else {
                 rt_path path;
                 rt_path_init(&path);
                 rt_path_add(&path, &ray, &hit);
                 rt_ray next;
-                while (rc == 0 && rt_bounce_ray(&sc.mesh, &ray, &hit, o.seed, o.bounces, &next)) {
+                while (rc == 0 && rt_bounce_ray(mesh, &ray, &hit, o->seed, (uint32_t)o->bounces, &next)) {
                     ray = next;
-                    if (!trace_one(&tc, &ray, &hit, err, sizeof err)) {
+                    if (!trace_one(tc, &ray, &hit, err, sizeof err)) {
                         fprintf(stderr, "rttrace: --log: %s\n", err);
                         rc = 2;
                     }
@@ -805,19 +727,169 @@ int main(int argc, char **argv)
                 }
                 col = path.radiance;
             }
-            tc.rgb[3 * pix + 0] = col.x;
-            tc.rgb[3 * pix + 1] = col.y;
-            tc.rgb[3 * pix + 2] = col.z;
+            tc->rgb[3 * pix + 0] = col.x;
+            tc->rgb[3 * pix + 1] = col.y;
+            tc->rgb[3 * pix + 2] = col.z;
             if ((pix & 1023) == 0)
-                progress_update(&pg, pix, false);
-            pixels_done++;
+                progress_update(pg, pix, false);
+            (*done)++;
         }
     }
-    s.trace_s = now_s() - tt0;
-    s.trace_cpu_s = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID) - tc0;
-    if (rc)
-        goto done;
-    const int sig = ks_interrupted();
+    return rc;
+}
+
+/* An image output: staged, written by `write` (true = written), committed. */
+#define WRITE_IMAGE(opt, out, path, write)                                                                              \
+    do {                                                                                                               \
+        const char *stage = ks_out_stage(out, err, sizeof err);                                                        \
+        if (!stage || !(write) || ks_out_commit(out, err, sizeof err)) {                                               \
+            fprintf(stderr, "rttrace: " opt ": %s\n", err);                                                            \
+            return 2;                                                                                                  \
+        }                                                                                                              \
+        written(out, path);                                                                                            \
+    } while (0)
+
+/* The trace log (closed and committed), the image and the heatmaps; 0 or 2
+ * (said). */
+static int write_images(tracer_ctx *tc, stats *s)
+{
+    const options *o = tc->o;
+    const size_t npix = (size_t)o->res.w * o->res.h;
+    char err[4600];
+    if (tc->log) {
+        bool ok = rt_tlog_writer_close(tc->log, &s->log, err, sizeof err) &&
+                  ks_out_commit(o->out_log, err, sizeof err) == 0;
+        tc->log = NULL;
+        if (!ok) {
+            fprintf(stderr, "rttrace: --log: %s\n", err);
+            return 2;
+        }
+        s->log_written = true;
+        written(o->out_log, o->log);
+    }
+    float lo;
+    rt_image_value_range(tc->hm_visits, npix, &lo, &s->visits_max);
+    rt_image_value_range(tc->hm_tris, npix, &lo, &s->tris_max);
+    if (o->image)
+        WRITE_IMAGE("--image", o->out_image, o->image,
+                    rt_image_write_rgb(stage, tc->rgb, o->res.w, o->res.h, err, sizeof err));
+    if (o->hm_visits)
+        WRITE_IMAGE("--heatmap-visits", o->out_hm_visits, o->hm_visits,
+                    rt_image_write_heatmap(stage, tc->hm_visits, o->res.w, o->res.h, 0.0f, s->visits_max,
+                                           RT_COLORMAP_VIRIDIS, err, sizeof err));
+    if (o->hm_tris)
+        WRITE_IMAGE("--heatmap-tris", o->out_hm_tris, o->hm_tris,
+                    rt_image_write_heatmap(stage, tc->hm_tris, o->res.w, o->res.h, 0.0f, s->tris_max,
+                                           RT_COLORMAP_VIRIDIS, err, sizeof err));
+    return 0;
+}
+
+/* The verdict of a traced frame (docs/tracer-bvh.md, "Embree check"): it
+ * rests on unexplained mismatches only; a classified one (an exact tie, a
+ * coplanar duplicate face, a gap or edge within the float error bound, t
+ * rounding) is a property of the scene, not an error of the traversal, and
+ * is reported; above --max-mismatch-rate it gives a warning. A ray the
+ * hardware's stack cannot trace fails too. */
+typedef struct verdict {
+    uint64_t mism, occ_mism;
+    bool embree_fail, embree_warn;
+} verdict;
+
+static verdict judge(const options *o, const stats *s)
+{
+    verdict v;
+    v.mism = embree_mismatches(&s->tally);
+    v.occ_mism = embree_mismatches(&s->occ_tally);
+    v.embree_fail = o->check_embree && (s->tally.cause[RT_EMBREE_OTHER] > 0 || s->occ_tally.cause[RT_EMBREE_OTHER] > 0);
+    v.embree_warn = o->check_embree && ((double)v.mism > o->max_mismatch_rate * (double)s->tally.rays ||
+                                        (double)v.occ_mism > o->max_mismatch_rate * (double)s->occ_tally.rays);
+    return v;
+}
+
+static void print_summary(const tracer_ctx *tc, const world *w, const stats *s, const verdict *v, float ao_tmax)
+{
+    const options *o = tc->o;
+    printf("view       %s, %ux%u, %s", w->view->name, o->res.w, o->res.h, o->diffuse ? "diffuse paths" : "primary rays");
+    if (o->diffuse)
+        printf(" (<= %" PRIu64 " bounces, seed %" PRIu64 ")", o->bounces, o->seed);
+    if (o->occlusion)
+        printf(" and their occlusion rays (%d per hit, distance %g, seed %" PRIu64 ")", RT_AO_SAMPLES_DEFAULT,
+               (double)ao_tmax, o->seed);
+    printf("\n");
+    printf("rays       %" PRIu64 " (%" PRIu64 " primary, %" PRIu64 " bounce), %" PRIu64 " hits, %" PRIu64
+           " stack overflows\n",
+           s->rays, s->primary_rays, s->bounce_rays, s->hits, s->overflows);
+    if (o->occlusion)
+        printf("occlusion  %" PRIu64 " rays (any hit ends them, no sort), %" PRIu64 " occluded (%.2f%%)\n",
+               s->occlusion_rays, s->occluded, 100.0 * per(s->occluded, s->occlusion_rays));
+    printf("traversal  %" PRIu64 " node visits (%.2f/ray), %" PRIu64 " box tests (%.2f/ray), %" PRIu64
+           " leaves (%.2f/ray),\n           %" PRIu64 " triangle tests (%.2f/ray), %" PRIu64 " pushes, %" PRIu64
+           " pops, %" PRIu64 " culls, max stack %u\n",
+           s->visits, per(s->visits, s->rays), s->box_tests, per(s->box_tests, s->rays), s->leaves,
+           per(s->leaves, s->rays), s->tri_tests, per(s->tri_tests, s->rays), s->pushes, s->pops, s->culls,
+           s->max_stack);
+    if (o->check_embree) {
+        printf("embree     %" PRIu64 " rays compared: %" PRIu64 " identical (%.4f%%; %" PRIu64
+               " with bit-equal t), %" PRIu64 " mismatches:",
+               s->tally.rays, s->tally.cause[RT_EMBREE_SAME],
+               100.0 * per(s->tally.cause[RT_EMBREE_SAME], s->tally.rays), s->tally.exact_t, v->mism);
+        for (int k = RT_EMBREE_TIE; k < RT_EMBREE_CAUSES; k++)
+            printf(" %s %" PRIu64, rt_embree_cause_name((rt_embree_cause)k), s->tally.cause[k]);
+        if (o->occlusion) {
+            printf("\nembree     %" PRIu64 " occlusion rays compared with rtcOccluded1: %" PRIu64
+                   " same answer (%.4f%%), %" PRIu64 " mismatches:",
+                   s->occ_tally.rays, s->occ_tally.cause[RT_EMBREE_SAME],
+                   100.0 * per(s->occ_tally.cause[RT_EMBREE_SAME], s->occ_tally.rays), v->occ_mism);
+            for (int k = RT_EMBREE_TIE; k < RT_EMBREE_CAUSES; k++)
+                printf(" %s %" PRIu64, rt_embree_cause_name((rt_embree_cause)k), s->occ_tally.cause[k]);
+        }
+        printf("\n           unexplained (other) allowed 0: %s; explained rate %.3g%s (warning above %g)\n",
+               v->embree_fail ? "FAIL" : "ok", per(v->mism - s->tally.cause[RT_EMBREE_OTHER], s->tally.rays),
+               v->embree_warn ? " WARNING" : "", o->max_mismatch_rate);
+    }
+    if (s->log_written)
+        printf("log        %s: %" PRIu64 " bytes, %.3f bytes per node visit (%" PRIu64 " blocks, %" PRIu64
+               " of %" PRIu64 " rays derived from camera/bounce)\n",
+               o->log, s->log.file_bytes, per(s->log.file_bytes, s->visits), s->log.blocks,
+               s->log.rays_camera + s->log.rays_bounce, s->log.rays);
+    if (o->image)
+        printf("image      %s\n", o->image);
+    if (o->hm_visits)
+        printf("heatmap    %s: node visits per pixel, 0..%.0f\n", o->hm_visits, (double)s->visits_max);
+    if (o->hm_tris)
+        printf("heatmap    %s: triangle tests per pixel, 0..%.0f\n", o->hm_tris, (double)s->tris_max);
+    printf("time       %.3f s wall, %.3f s build, %.3f s tracing%s (%.3f Mrays/s)\n", s->wall_s, w->bs.build_seconds,
+           s->trace_s, o->log || o->check_embree ? " incl. log/Embree" : "",
+           s->trace_s > 0 ? (double)s->rays / s->trace_s / 1e6 : 0.0);
+    if (s->overflows)
+        printf("FAIL       %" PRIu64 " rays overflowed the %d-entry stack\n", s->overflows, tc->tp.stack_depth);
+}
+
+/* Traces the frame and writes its outputs; the exit status. */
+static int trace_frame(const options *o, world *w, double t0)
+{
+    run_info ri = {o, &w->sc, w->view, &w->bp, &w->bs, &w->img};
+    if (!o->quiet) {
+        print_build(&ri);
+        fflush(stdout);
+    }
+    stats s;
+    memset(&s, 0, sizeof s);
+    tracer_ctx tc;
+    memset(&tc, 0, sizeof tc);
+    int rc = tracer_open(&tc, o, w, &s);
+    const size_t npix = (size_t)o->res.w * o->res.h;
+    const float ao_tmax = rt_ao_distance(&w->sc.mesh);
+    progress pg = {!o->quiet && isatty(2), now_s(), 0, npix};
+    size_t pixels_done = 0;
+    if (rc == 0) {
+        const double tt0 = now_s(), tc0 = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID);
+        ks_interrupt_polling(true);   /* checked once a pixel */
+        rc = trace_pixels(&tc, w, ao_tmax, &pg, &pixels_done);
+        s.trace_s = now_s() - tt0;
+        s.trace_cpu_s = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID) - tc0;
+    }
+    const int sig = rc ? 0 : ks_interrupted();
     if (sig) {
         /* a cut log or image cannot say it is partial: only the JSON is written */
         char reason[160];
@@ -828,165 +900,62 @@ int main(int argc, char **argv)
         s.wall_s = now_s() - t0;
         rt_tlog_writer_abort(tc.log);
         tc.log = NULL;
-        if (o.json && write_json(o.json, &ri, &s, false, reason) != 0)
+        if (o->json && write_json(o->json, &ri, &s, false, reason) != 0)
             rc = 2;
         fflush(stdout);
         fprintf(stderr, "rttrace: %s; %s, no log or image written, temporary files removed\n", reason,
-                o.json ? "the JSON statistics are marked partial" : "nothing written");
+                o->json ? "the JSON statistics are marked partial" : "nothing written");
         ks_out_discard_all();
         if (rc == 0)
             rc = ks_interrupt_exit_status();
-        goto done;
+    } else if (rc == 0) {
+        progress_update(&pg, npix, true);
+        rc = write_images(&tc, &s);
     }
-    progress_update(&pg, npix, true);
-
-    /* outputs */
-    if (tc.log) {
-        bool ok = rt_tlog_writer_close(tc.log, &s.log, err, sizeof err) && ks_out_commit(o.out_log, err, sizeof err) == 0;
-        tc.log = NULL;
-        if (!ok) {
-            fprintf(stderr, "rttrace: --log: %s\n", err);
-            rc = 2;
-            goto done;
-        }
-        s.log_written = true;
-        written(o.out_log, o.log);
-    }
-    float lo;
-    rt_image_value_range(tc.hm_visits, npix, &lo, &s.visits_max);
-    rt_image_value_range(tc.hm_tris, npix, &lo, &s.tris_max);
-    if (o.image) {
-        const char *stage = ks_out_stage(o.out_image, err, sizeof err);
-        if (!stage || !rt_image_write_rgb(stage, tc.rgb, o.res_w, o.res_h, err, sizeof err) ||
-            ks_out_commit(o.out_image, err, sizeof err)) {
-            fprintf(stderr, "rttrace: --image: %s\n", err);
-            rc = 2;
-            goto done;
-        }
-        written(o.out_image, o.image);
-    }
-    if (o.hm_visits) {
-        const char *stage = ks_out_stage(o.out_hm_visits, err, sizeof err);
-        if (!stage ||
-            !rt_image_write_heatmap(stage, tc.hm_visits, o.res_w, o.res_h, 0.0f, s.visits_max, RT_COLORMAP_VIRIDIS,
-                                    err, sizeof err) ||
-            ks_out_commit(o.out_hm_visits, err, sizeof err)) {
-            fprintf(stderr, "rttrace: --heatmap-visits: %s\n", err);
-            rc = 2;
-            goto done;
-        }
-        written(o.out_hm_visits, o.hm_visits);
-    }
-    if (o.hm_tris) {
-        const char *stage = ks_out_stage(o.out_hm_tris, err, sizeof err);
-        if (!stage ||
-            !rt_image_write_heatmap(stage, tc.hm_tris, o.res_w, o.res_h, 0.0f, s.tris_max, RT_COLORMAP_VIRIDIS, err,
-                                    sizeof err) ||
-            ks_out_commit(o.out_hm_tris, err, sizeof err)) {
-            fprintf(stderr, "rttrace: --heatmap-tris: %s\n", err);
-            rc = 2;
-            goto done;
-        }
-        written(o.out_hm_tris, o.hm_tris);
+    if (rc || sig) {
+        tracer_close(&tc);
+        return rc;
     }
     s.wall_s = now_s() - t0;
-
-    /* validation: Embree */
-    /* The verdict rests on unexplained mismatches only (docs/tracer-bvh.md,
-     * "Embree check"): a classified one (an exact tie, a coplanar duplicate
-     * face, a gap or edge within the float error bound, t rounding) is a
-     * property of the scene, not an error of the traversal, and is reported;
-     * above --max-mismatch-rate it gives a warning. */
-    uint64_t mism = embree_mismatches(&s.tally);
-    const uint64_t occ_mism = embree_mismatches(&s.occ_tally);
-    bool embree_fail = o.check_embree && (s.tally.cause[RT_EMBREE_OTHER] > 0 || s.occ_tally.cause[RT_EMBREE_OTHER] > 0);
-    bool overflow_fail = s.overflows > 0;   /* a ray the hardware's stack cannot trace fails too */
-    bool embree_warn = o.check_embree && ((double)mism > o.max_mismatch_rate * (double)s.tally.rays ||
-                                          (double)occ_mism > o.max_mismatch_rate * (double)s.occ_tally.rays);
-
-    if (!o.quiet) {
-        printf("view       %s, %ux%u, %s", view->name, o.res_w, o.res_h, o.diffuse ? "diffuse paths" : "primary rays");
-        if (o.diffuse)
-            printf(" (<= %u bounces, seed %" PRIu64 ")", o.bounces, o.seed);
-        if (o.occlusion)
-            printf(" and their occlusion rays (%d per hit, distance %g, seed %" PRIu64 ")", RT_AO_SAMPLES_DEFAULT,
-                   (double)ao_tmax, o.seed);
-        printf("\n");
-        printf("rays       %" PRIu64 " (%" PRIu64 " primary, %" PRIu64 " bounce), %" PRIu64 " hits, %" PRIu64
-               " stack overflows\n",
-               s.rays, s.primary_rays, s.bounce_rays, s.hits, s.overflows);
-        if (o.occlusion)
-            printf("occlusion  %" PRIu64 " rays (any hit ends them, no sort), %" PRIu64 " occluded (%.2f%%)\n",
-                   s.occlusion_rays, s.occluded, 100.0 * per(s.occluded, s.occlusion_rays));
-        printf("traversal  %" PRIu64 " node visits (%.2f/ray), %" PRIu64 " box tests (%.2f/ray), %" PRIu64
-               " leaves (%.2f/ray),\n           %" PRIu64 " triangle tests (%.2f/ray), %" PRIu64 " pushes, %" PRIu64
-               " pops, %" PRIu64 " culls, max stack %u\n",
-               s.visits, per(s.visits, s.rays), s.box_tests, per(s.box_tests, s.rays), s.leaves, per(s.leaves, s.rays),
-               s.tri_tests, per(s.tri_tests, s.rays), s.pushes, s.pops, s.culls, s.max_stack);
-        if (o.check_embree) {
-            printf("embree     %" PRIu64 " rays compared: %" PRIu64 " identical (%.4f%%; %" PRIu64 " with bit-equal t), %" PRIu64
-                   " mismatches:",
-                   s.tally.rays, s.tally.cause[RT_EMBREE_SAME], 100.0 * per(s.tally.cause[RT_EMBREE_SAME], s.tally.rays),
-                   s.tally.exact_t, mism);
-            for (int k = RT_EMBREE_TIE; k < RT_EMBREE_CAUSES; k++)
-                printf(" %s %" PRIu64, rt_embree_cause_name((rt_embree_cause)k), s.tally.cause[k]);
-            if (o.occlusion) {
-                printf("\nembree     %" PRIu64 " occlusion rays compared with rtcOccluded1: %" PRIu64
-                       " same answer (%.4f%%), %" PRIu64 " mismatches:",
-                       s.occ_tally.rays, s.occ_tally.cause[RT_EMBREE_SAME],
-                       100.0 * per(s.occ_tally.cause[RT_EMBREE_SAME], s.occ_tally.rays), occ_mism);
-                for (int k = RT_EMBREE_TIE; k < RT_EMBREE_CAUSES; k++)
-                    printf(" %s %" PRIu64, rt_embree_cause_name((rt_embree_cause)k), s.occ_tally.cause[k]);
-            }
-            printf("\n           unexplained (other) allowed 0: %s; explained rate %.3g%s (warning above %g)\n",
-                   embree_fail ? "FAIL" : "ok", per(mism - s.tally.cause[RT_EMBREE_OTHER], s.tally.rays),
-                   embree_warn ? " WARNING" : "", o.max_mismatch_rate);
-        }
-        if (s.log_written)
-            printf("log        %s: %" PRIu64 " bytes, %.3f bytes per node visit (%" PRIu64 " blocks, %" PRIu64
-                   " of %" PRIu64 " rays derived from camera/bounce)\n",
-                   o.log, s.log.file_bytes, per(s.log.file_bytes, s.visits), s.log.blocks,
-                   s.log.rays_camera + s.log.rays_bounce, s.log.rays);
-        if (o.image)
-            printf("image      %s\n", o.image);
-        if (o.hm_visits)
-            printf("heatmap    %s: node visits per pixel, 0..%.0f\n", o.hm_visits, (double)s.visits_max);
-        if (o.hm_tris)
-            printf("heatmap    %s: triangle tests per pixel, 0..%.0f\n", o.hm_tris, (double)s.tris_max);
-        printf("time       %.3f s wall, %.3f s build, %.3f s tracing%s (%.3f Mrays/s)\n", s.wall_s,
-               bs.build_seconds, s.trace_s,
-               o.log || o.check_embree ? " incl. log/Embree" : "", s.trace_s > 0 ? (double)s.rays / s.trace_s / 1e6 : 0.0);
-        if (s.overflows)
-            printf("FAIL       %" PRIu64 " rays overflowed the %d-entry stack\n", s.overflows, tc.tp.stack_depth);
-    }
+    const verdict v = judge(o, &s);
+    if (!o->quiet)
+        print_summary(&tc, w, &s, &v, ao_tmax);
     fill_run(&ri, &s, false, NULL);
     /* a failure is said on stderr even with --quiet (it exited 1 silently) */
     if (s.overflows)
-        fprintf(stderr, "rttrace: %" PRIu64 " rays overflowed the %d-entry traversal stack (raise --stack-depth, allowed 1..4096)\n",
+        fprintf(stderr, "rttrace: %" PRIu64 " rays overflowed the %d-entry traversal stack (raise --stack-depth, "
+                        "allowed 1..4096)\n",
                 s.overflows, tc.tp.stack_depth);
-    if (embree_fail)
+    if (v.embree_fail)
         fprintf(stderr, "rttrace: --check-embree: %" PRIu64 " unexplained mismatches with Embree (cause 'other')\n",
                 s.tally.cause[RT_EMBREE_OTHER] + s.occ_tally.cause[RT_EMBREE_OTHER]);
-    else if (embree_warn)
-        fprintf(stderr, "rttrace: --check-embree: warning: %" PRIu64 " of %" PRIu64 " rays differ from Embree for explained causes (above --max-mismatch-rate %g); not a failure\n",
-                mism, s.tally.rays, o.max_mismatch_rate);
-    s.failed = embree_fail || overflow_fail;
-    if (o.json && write_json(o.json, &ri, &s, false, NULL) != 0) {
-        rc = 2;
-        goto done;
-    }
-    rc = s.failed ? 1 : 0;
+    else if (v.embree_warn)
+        fprintf(stderr, "rttrace: --check-embree: warning: %" PRIu64 " of %" PRIu64 " rays differ from Embree for "
+                        "explained causes (above --max-mismatch-rate %g); not a failure\n",
+                v.mism, s.tally.rays, o->max_mismatch_rate);
+    s.failed = v.embree_fail || s.overflows > 0;
+    rc = o->json && write_json(o->json, &ri, &s, false, NULL) != 0 ? 2 : s.failed ? 1 : 0;
+    tracer_close(&tc);
+    return rc;
+}
 
-done:
+int main(int argc, char **argv)
+{
+    const double t0 = now_s();
+    cli_run_init(&g_run, "rttrace", argc, argv);
+    ks_interrupt_install("rttrace");
+    options o;
+    int rc = parse_options(argc, argv, &o);
+    if (rc != CLI_GO_ON)
+        return rc;
+    static world w;   /* zero: what load_world did not fill is freed as empty */
+    rc = load_world(&o, &w);
+    if (rc == 0)
+        rc = o.read_log ? read_log_mode(&o, &w.sc, &w.bp, &w.bs, &w.img, t0) : trace_frame(&o, &w, t0);
     if (rc == 2)
-        remove_written();
+        remove_written();   /* this run's outputs go again */
     ks_out_discard_all();
-    rt_tlog_writer_abort(tc.log);
-    rt_embree_free(tc.embree);
-    free(tc.rgb);
-    free(tc.hm_visits);
-    free(tc.hm_tris);
-    rt_bvh_image_free(&img);
-    rt_scene_free(&sc);
+    rt_bvh_image_free(&w.img);
+    rt_scene_free(&w.sc);
     return rc;
 }

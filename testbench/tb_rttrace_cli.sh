@@ -24,6 +24,8 @@ res=64x36 scenes="interior hairball city forest"
 # (the sanitizer build runs the traced cases below).
 if [ -z "${RTSIM_TB_SANITIZED:-}" ]; then
 expect rttrace_help 0 "usage: rttrace SCENE" -- "$bin" --help
+# the help states the option table's range and default (cli/options.h)
+expect rttrace_help_range 0 "--leaf-size N          max triangles per leaf, 1..255 (default 4)" -- "$bin" --help
 expect rttrace_version 0 "rttrace 0.1.0 (git " -- "$bin" --version
 expect rttrace_no_scene 2 "missing SCENE" -- "$bin"
 expect rttrace_unknown_option 2 "unknown option --bogus" -- "$bin" interior --bogus

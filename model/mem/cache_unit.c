@@ -8,6 +8,9 @@
 static const ks_desc_item cache_unit_items[] = {
     {KS_DESC_PARAM, "size", "int", "in [node_l1], [node_l2], [prim] below", "", "capacity in bytes ([node_l1], [node_l2], [prim])"},
     {KS_DESC_PARAM, "line", "int", "in [node_l1], [node_l2], [prim] below", "", "line size in bytes (node caches: node size)"},
+    {KS_DESC_PARAM, "addressing", "enum byte|index", "byte", "[node_l1], [node_l2] only, both the same",
+     "index: a line is one node of machine.branching x 32 B (`line` unused), set = node index mod sets "
+     "(paper sec. 3.1; docs/energy.md)"},
     {KS_DESC_PARAM, "ways", "int", "in [node_l1], [node_l2], [prim] below", "", "associativity, true LRU (paper sec. 3: 4-way)"},
     {KS_DESC_PARAM, "banks", "int", "in [node_l1], [node_l2], [prim] below", "", "banks interleaved by line (prim: 2, paper sec. 3)"},
     {KS_DESC_PARAM, "ports", "int", "in [node_l1], [node_l2], [prim] below", "", "accesses per cycle; line reads per bank per cycle"},

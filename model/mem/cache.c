@@ -110,8 +110,8 @@ cache *cache_create(const cache_params *p, char *err, size_t errlen)
     }
     uint64_t per_set = (uint64_t)p->line_bytes * p->ways * p->banks;
     if (p->index_addressed ? p->size_bytes < per_set : p->size_bytes % per_set || !pow2(p->size_bytes / per_set)) {
-        snprintf(err, errlen, "cache: size/(line*ways*banks) = %u/(%u*%u*%u) must be %s >= 1", p->size_bytes,
-                 p->line_bytes, p->ways, p->banks, p->index_addressed ? "" : "a power of two");
+        snprintf(err, errlen, "cache: size/(line*ways*banks) = %u/(%u*%u*%u) must be %s>= 1", p->size_bytes,
+                 p->line_bytes, p->ways, p->banks, p->index_addressed ? "" : "a power of two ");
         return NULL;
     }
     cache *c = calloc(1, sizeof *c);

@@ -160,8 +160,8 @@ static int check_ray_side(const rtcfg *cfg, char *err, size_t errlen)
      * primitive cache: the rays the IST holds, at most its test pipeline + 1
      * (accel_config.c, IST loop). */
     if (rtcfg_has(cfg, "node_l1.size")) {
-        int64_t line = rtcfg_int(cfg, "node_l1.line");
-        int64_t lines = memsys_lines_touched(RT_SLOT_BYTES * rtcfg_int(cfg, "machine.branching"), line);
+        int64_t line = memsys_line_bytes(cfg, "node_l1");
+        int64_t lines = memsys_lines_touched(memsys_node_bytes(cfg), line);
         int64_t need = (int64_t)slots * lines;
         if (rtcfg_int(cfg, "node_l1.size") / line < need)
             return rtcfg_errorf(err, errlen,

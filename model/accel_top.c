@@ -209,16 +209,18 @@ static energy_model *build_energy_model(accel_top *t, const rtcfg *cfg, char *er
     m.stack_entry_bytes = c->distance_cull ? 8 : 4;
     static const char *const caches[3] = {"node_l1", "node_l2", "prim"};
     for (int i = 0; i < 3; i++) {
-        char k[64];
-#define CACHE_KEY(field) (snprintf(k, sizeof k, "%s.%s", caches[i], field), rtcfg_int(cfg, k))
         m.cache[i].name = caches[i];
         m.cache[i].count = i == 0 ? t->p.trv_count : 1;
-        m.cache[i].size = (double)CACHE_KEY("size");
-        m.cache[i].line = (double)CACHE_KEY("line");
-        m.cache[i].ways = (double)CACHE_KEY("ways");
-        m.cache[i].ports = (unsigned)CACHE_KEY("ports");
-        m.cache[i].banks = (unsigned)CACHE_KEY("banks");
-#undef CACHE_KEY
+        cache_params cp;
+        memsys_cache_params(cfg, caches[i], &cp);
+        /* the array built: an index-addressed cache holds whole node words
+         * (cache.h), a node-sized word the SRAM table may lack (energy_table.h) */
+        m.cache[i].size = (double)cache_capacity_bytes(&cp);
+        m.cache[i].line = (double)cp.line_bytes;
+        m.cache[i].ways = (double)cp.ways;
+        m.cache[i].ports = cp.ports;
+        m.cache[i].banks = cp.banks;
+        m.cache[i].node_word = cp.index_addressed;
     }
     m.ncache = 3;
     /* the ray side's FIFOs carry a ray each; the memory side's a line or a request */
@@ -335,9 +337,9 @@ static uint64_t ceil_div(uint64_t a, uint64_t b) { return b ? (a + b - 1) / b : 
 static uint64_t longest_wait_of(const rtcfg *cfg, const accel_params *p, const memsys *mem, uint32_t ist_pipe)
 {
     double period_ps = 1e6 / p->clock_mhz;
-    uint64_t line = (uint64_t)rtcfg_int(cfg, "node_l2.line");
-    if ((uint64_t)rtcfg_int(cfg, "prim.line") > line)
-        line = (uint64_t)rtcfg_int(cfg, "prim.line");
+    uint64_t line = (uint64_t)memsys_line_bytes(cfg, "node_l2");
+    if ((uint64_t)memsys_line_bytes(cfg, "prim") > line)
+        line = (uint64_t)memsys_line_bytes(cfg, "prim");
     uint64_t memory;
     const dram_spec *spec = memsys_dram_spec(mem);
     if (spec) {

@@ -6,7 +6,9 @@
 # and runs with the same results), determinism, and bad input: unknown or
 # out-of-range --set keys, bad options/values/scenes -> a message naming the
 # key or value and the allowed range, exit 2, no output file left behind;
-# a machine that could deadlock -> refused at start-up, exit 2.
+# a machine that could deadlock -> refused at start-up, exit 2; index-addressed
+# node caches (same frame as byte addressing at 4-wide, whole 96 B nodes
+# moved at 3-wide, a mixed hierarchy refused).
 set -u
 bin=${RTSIM_BIN:?}/rtsim
 tmp=${RTSIM_TMP:-/tmp}/tb_accel_cli
@@ -185,3 +187,38 @@ if echo "$out" | grep -q "^status      FAILED: [0-9]* rays overflowed their stac
 else fail accel_cli_failed_run_marked "summary/JSON do not mark the failed run: $(echo "$out" | head -5 | tr '\n' ' ')"; fi
 # a stack too small for the scene: exit 1 naming the key
 expect accel_cli_stack_too_small 1 "trv.stack_depth" -- "$bin" "$scene" --res 16x16 --quiet --set trv.stack_depth=1
+
+# index-addressed node caches (docs/energy.md "Branching factors 2..8"):
+# both node caches or neither; a bad value names the allowed ones
+expect accel_cli_index_mixed_refused 2 "node_l1.addressing = index (--set node_l1.addressing=index) but node_l2.addressing = byte" -- \
+  "$bin" "${small[@]}" --set node_l1.addressing=index
+expect accel_cli_index_bad_value 2 "node_l2.addressing = 'word' is not one of byte|index" -- \
+  "$bin" "${small[@]}" --set node_l2.addressing=word
+index=(--set node_l1.addressing=index --set node_l2.addressing=index)
+# a 4-wide node is a 128 B power of two: index addressing is byte addressing
+# with 128 B lines, the same frame to the last statistic and joule
+"$bin" "${small[@]}" --rays diffuse --json "$tmp/ix4b.json"
+"$bin" "${small[@]}" --rays diffuse "${index[@]}" --json "$tmp/ix4i.json"
+if python3 - "$tmp/ix4b.json" "$tmp/ix4i.json" <<'PY'
+import json, sys
+a, b = (json.load(open(p)) for p in sys.argv[1:3])
+a.pop("run"), b.pop("run")
+sys.exit(0 if a == b and a["node_l2.fills"] > 0 else 1)
+PY
+then pass accel_cli_index_width4_same_as_byte
+else fail accel_cli_index_width4_same_as_byte "results differ"; fi
+# 3-wide: every miss moves one 96 B node, L1 -> L2 -> DRAM, and the DRAM's
+# bytes are the node L2's and the primitive cache's fills, in 32 B bursts
+"$bin" "${small[@]}" --rays diffuse --set machine.branching=3 "${index[@]}" --json "$tmp/ix3.json" 2>"$tmp/ix3.err"
+if python3 - "$tmp/ix3.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+l1 = [k[:-len(".fills")] for k in d if k.startswith("node_l1_") and k.endswith(".fills")]
+ok = d["run_failed"] == 0 and d["node_l2.fills"] > 0 and len(l1) == 4
+ok = ok and all(d[u + ".bytes_filled"] == 96 * d[u + ".fills"] and d[u + ".bank_conflicts"] == 0 for u in l1)
+ok = ok and d["node_l2.bytes_filled"] == 96 * d["node_l2.miss_lines"] == 96 * d["node_l2.fills"]
+ok = ok and d["dram_bytes"] == d["node_l2.bytes_filled"] + d["prim.bytes_filled"] == 32 * d["dram.bursts"]
+sys.exit(0 if ok else 1)
+PY
+then pass accel_cli_index_width3_node_traffic
+else fail accel_cli_index_width3_node_traffic "traffic is not whole 96 B nodes: $(head -3 "$tmp/ix3.err")"; fi

@@ -197,17 +197,22 @@ static void draw_config(const rtcfg *proto, drawn_config *c)
     }
 }
 
-static void replace_set(drawn_config *c, const char *key, long long value)
+static void replace_set_str(drawn_config *c, const char *key, const char *value)
 {
     size_t n = strlen(key);
     for (int i = 0; i < c->n; i++)
         if (!strncmp(c->sets[i], key, n) && c->sets[i][n] == '=') {
-            snprintf(c->sets[i], sizeof c->sets[0], "%s=%lld", key, value);
+            snprintf(c->sets[i], sizeof c->sets[0], "%s=%s", key, value);
             return;
         }
+    add_set(c, key, value);
+}
+
+static void replace_set(drawn_config *c, const char *key, long long value)
+{
     char v[32];
     snprintf(v, sizeof v, "%lld", value);
-    add_set(c, key, v);
+    replace_set_str(c, key, v);
 }
 
 static rtcfg *new_cfg(char *err, size_t errlen);
@@ -234,6 +239,12 @@ static void steer_config(drawn_config *c)
 {
     static const char *const secs[] = {"node_l1", "node_l2", "prim"};
     char k[64];
+    /* one addressing for the node hierarchy (memsys_config.c); index: the
+     * line is the node, whatever node_l*.line says */
+    const char *addressing = find_set(c, "node_l1.addressing");
+    bool index = addressing && !strcmp(addressing, "index");
+    replace_set_str(c, "node_l2.addressing", index ? "index" : "byte");
+    const long long node_bytes = 32 * (long long)set_num(c, "machine.branching", 4);
     /* node and triangle reads of at most 8 lines (cache.h) */
     for (int i = 0; i < 3; i += 2) {
         snprintf(k, sizeof k, "%s.line", secs[i]);
@@ -247,7 +258,7 @@ static void steer_config(drawn_config *c)
         replace_set(c, "node_l2.line", (long long)l1_line);
     for (int i = 0; i < 3; i++) {
         snprintf(k, sizeof k, "%s.line", secs[i]);
-        long long line = (long long)set_num(c, k, 64);
+        long long line = index && i < 2 ? node_bytes : (long long)set_num(c, k, 64);
         snprintf(k, sizeof k, "%s.ways", secs[i]);
         double ways = set_num(c, k, 4);
         snprintf(k, sizeof k, "%s.banks", secs[i]);
@@ -257,7 +268,9 @@ static void steer_config(drawn_config *c)
         double waiting = i == 0 ? set_num(c, "trv.slots", 32)
                        : i == 2 ? set_num(c, "ist.latency", 16) + set_num(c, "prim.hit_latency", 2) + 2
                                 : 1;
-        double min = (double)line * ways * banks, fit = waiting * (double)(lines_of(bytes, line) * line);
+        double min = 64, fit = waiting * (double)(lines_of(bytes, line) * line);
+        while (min < (double)line * ways * banks) /* sizes are powers of two, node words need not be */
+            min *= 2;
         while (min < fit)
             min *= 2;
         snprintf(k, sizeof k, "%s.size", secs[i]);

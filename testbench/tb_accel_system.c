@@ -785,6 +785,16 @@ int main(void)
             for (int wd = 3; wd <= 8; wd += (wd == 3 ? 2 : 1))
                 if (wd != 4)
                     check_case_width(&sc, "mbvh4", wd, "fixed", wd == 5, small ? 12 : 32, small ? 7 : 18, &tot);
+            /* the other organisation for such nodes (paper 3.1): an
+             * index-addressed node hierarchy, one 96 B / 192 B node per line */
+            static const char *const index_sets[] = {"node_l1.addressing=index", "node_l2.addressing=index",
+                                                     "node_l1.banks=1", NULL};
+            case_spec ix3 = {.preset = "mbvh4", .memory = "lpddr3", .width = 3, .diffuse = true, .w = small ? 12 : 32,
+                             .h = small ? 7 : 18, .extra = index_sets, .tag = "index"};
+            check_spec(&sc, &ix3, &tot, NULL);
+            case_spec ix6 = {.preset = "mbvh4", .memory = "fixed", .width = 6, .w = small ? 12 : 32,
+                             .h = small ? 7 : 18, .extra = index_sets, .tag = "index"};
+            check_spec(&sc, &ix6, &tot, NULL);
             test_determinism_and_deadlock(&sc);
             test_sort_bypass_latency(&sc);
             case_spec ol = {.preset = "mbvh4", .memory = "lpddr3", .occlusion = true, .w = small ? 8 : 24,

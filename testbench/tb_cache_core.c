@@ -2,19 +2,26 @@
  * merge, eviction, MSHR exhaustion, port and bank sequences, and random
  * sequences against a simple reference model (an explicit MRU..LRU list per
  * set, a list of pending lines) that must agree on every result, every popped
- * miss, every line's presence and the statistics. */
+ * miss, every line's presence and the statistics; the same for an
+ * index-addressed cache of 96 B and 160 B node words (non-power-of-two sets). */
 #include "model/mem/cache.h"
 #include "testbench/tb.h"
 
-static cache *mk(uint32_t size, uint32_t line, uint32_t ways, uint32_t banks, uint32_t ports, uint32_t mshrs,
-                 uint32_t merge)
+static cache *mk_addressed(uint32_t size, uint32_t line, uint32_t ways, uint32_t banks, uint32_t ports,
+                          uint32_t mshrs, uint32_t merge, uint32_t index_addressed)
 {
-    cache_params p = {size, line, ways, banks, ports, mshrs, merge, 1};
+    cache_params p = {size, line, ways, banks, ports, mshrs, merge, 1, index_addressed};
     char err[256];
     cache *c = cache_create(&p, err, sizeof err);
     if (!c)
         printf("cache_create: %s\n", err);
     return c;
+}
+
+static cache *mk(uint32_t size, uint32_t line, uint32_t ways, uint32_t banks, uint32_t ports, uint32_t mshrs,
+                 uint32_t merge)
+{
+    return mk_addressed(size, line, ways, banks, ports, mshrs, merge, 0);
 }
 
 /* Pops the oldest downstream request and answers it at once. */
@@ -259,7 +266,7 @@ static void test_create_errors(void)
 {
     tb_begin("create_rejects_impossible_parameters");
     char err[256];
-    cache_params p = {16384, 128, 3, 1, 1, 8, 4, 1};
+    cache_params p = {16384, 128, 3, 1, 1, 8, 4, 1, 0};
     TB_CHECK(cache_create(&p, err, sizeof err) == NULL && strstr(err, "must be a power of two"), "3 ways: %s", err);
     p.ways = 0;
     TB_CHECK(cache_create(&p, err, sizeof err) == NULL && strstr(err, "ways"), "0 ways: %s", err);
@@ -269,6 +276,85 @@ static void test_create_errors(void)
     p.line_bytes = 128;
     p.size_bytes = 256;
     TB_CHECK(cache_create(&p, err, sizeof err) == NULL, "smaller than one set");
+    tb_end();
+}
+
+/* Index-addressed, 96 B words (an MBVH3 node): 1024 B, 2-way, one bank hold
+ * floor(1024 / (96 * 2)) = 5 sets, 960 B; node k (bytes 96k..96k+95) is
+ * word k, in set k mod 5. */
+static void test_index_addressed_96(void)
+{
+    tb_begin("index_addressed_96B_words_hits_misses_sets");
+    cache *c = mk_addressed(1024, 96, 2, 1, 1, 4, 4, 1);
+    TB_CHECK(c != NULL, "created");
+    if (!c) {
+        tb_end();
+        return;
+    }
+    const cache_params *p = cache_get_params(c);
+    TB_EQ_INT(cache_capacity_bytes(p), 960);
+    int64_t t = 0;
+    /* node 1 = bytes 96..191: one word, not two 64 B lines or a straddle */
+    TB_EQ_INT(cache_access(c, 96, 96, t++), CACHE_MISS);
+    mem_req r;
+    TB_CHECK(cache_pop_miss(c, &r), "one request");
+    TB_EQ_INT(r.addr, 96);
+    TB_EQ_INT(r.bytes, 96);
+    TB_CHECK(!cache_pop_miss(c, &r), "only one request for one node");
+    TB_CHECK(cache_line_pending(c, 191) && !cache_line_pending(c, 192), "pending word is bytes 96..191");
+    mem_resp f = {96, 96, 0, 0, 0};
+    TB_EQ_INT(cache_fill(c, &f, t), 0);
+    TB_CHECK(cache_contains(c, 96) && cache_contains(c, 191) && !cache_contains(c, 95) && !cache_contains(c, 192),
+             "word 1 present exactly");
+    TB_EQ_INT(cache_access(c, 96, 96, t++), CACHE_HIT);
+    TB_EQ_INT(cache_last_access_cycles(c), 1);
+    TB_EQ_INT(cache_access(c, 100, 8, t++), CACHE_HIT); /* any part of the node */
+    /* words 0, 5, 10 share set 0 (2 ways): 0 and 5 fill it, 0 is touched,
+     * 10 evicts 5 */
+    TB_EQ_INT(cache_access(c, 0, 96, t++), CACHE_MISS);
+    TB_EQ_INT(serve_one(c, t), 0);
+    TB_EQ_INT(cache_access(c, 5 * 96, 96, t++), CACHE_MISS);
+    TB_EQ_INT(serve_one(c, t), 0);
+    TB_EQ_INT(cache_access(c, 0, 96, t++), CACHE_HIT);
+    TB_EQ_INT(cache_access(c, 10 * 96, 96, t++), CACHE_MISS);
+    TB_CHECK(cache_pop_miss(c, &r) && r.addr == 960 && r.bytes == 96, "word 10 requested at 960: 0x%llx+%u",
+             (unsigned long long)r.addr, r.bytes);
+    mem_resp f10 = {960, 96, 0, 0, r.tag};
+    TB_EQ_INT(cache_fill(c, &f10, t), 0);
+    TB_CHECK(cache_contains(c, 0) && !cache_contains(c, 480) && cache_contains(c, 960), "LRU word 5 evicted");
+    TB_CHECK(cache_contains(c, 96), "word 1 (set 1) untouched");
+    /* an access across two words (bytes 150..249: words 1 and 2) touches both */
+    TB_EQ_INT(cache_access(c, 150, 100, t++), CACHE_MISS);
+    TB_EQ_INT(cache_mshrs_busy(c), 1); /* word 2 only */
+    cache_stats s;
+    cache_get_stats(c, &s);
+    TB_EQ_INT(s.accesses, 8);
+    TB_EQ_INT(s.hits, 3);
+    TB_EQ_INT(s.misses, 5);
+    TB_EQ_INT(s.miss_lines, 5);
+    TB_EQ_INT(s.fills, 4);
+    TB_EQ_INT(s.evictions, 1);
+    TB_EQ_INT(s.bytes_filled, 4 * 96);
+    cache_destroy(c);
+    tb_end();
+}
+
+static void test_index_create_errors(void)
+{
+    tb_begin("index_addressed_create_rejects_impossible_parameters");
+    char err[256];
+    cache_params p = {16384, 100, 4, 1, 1, 8, 4, 1, 1};
+    TB_CHECK(cache_create(&p, err, sizeof err) == NULL && strstr(err, "multiple of 16"), "100 B word: %s", err);
+    p.line_bytes = 96;
+    p.size_bytes = 128; /* less than one set of 2 x 96 B */
+    p.ways = 2;
+    TB_CHECK(cache_create(&p, err, sizeof err) == NULL && strstr(err, ">= 1"), "smaller than a set: %s", err);
+    p.size_bytes = 16384;
+    p.ways = 4;
+    cache *c = cache_create(&p, err, sizeof err);
+    TB_CHECK(c != NULL, "16 KB of 96 B words: %s", c ? "" : err);
+    TB_EQ_INT(cache_capacity_bytes(&p), 42 * 4 * 96); /* floor(16384 / 384) = 42 sets */
+    cache_destroy(c);
     tb_end();
 }
 
@@ -465,20 +551,21 @@ static uint32_t rnd(uint32_t n)
     return (uint32_t)(rng_state % n);
 }
 
-static void run_random(uint32_t size, uint32_t line, uint32_t ways, uint32_t banks, uint32_t ports, uint32_t mshrs,
-                       uint32_t merge, bool requests, int ops)
+static void run_random_addressed(uint32_t size, uint32_t line, uint32_t ways, uint32_t banks, uint32_t ports,
+                                 uint32_t mshrs, uint32_t merge, bool requests, int ops, uint32_t index_addressed)
 {
     char name[160];
-    snprintf(name, sizeof name, "random_vs_reference_%s_%uB_%uB_%uway_%ubank_%uport_%umshr_%umerge",
-             requests ? "requests" : "probes", size, line, ways, banks, ports, mshrs, merge);
+    snprintf(name, sizeof name, "random_vs_reference_%s%s_%uB_%uB_%uway_%ubank_%uport_%umshr_%umerge",
+             index_addressed ? "index_" : "", requests ? "requests" : "probes", size, line, ways, banks, ports, mshrs,
+             merge);
     tb_begin(name);
-    cache *c = mk(size, line, ways, banks, ports, mshrs, merge);
+    cache *c = mk_addressed(size, line, ways, banks, ports, mshrs, merge, index_addressed);
     static ref r;
     memset(&r, 0, sizeof r);
     r.merge = merge;
     uint64_t next_tag = 1;
     r.line = line, r.ways = ways, r.banks = banks, r.ports = ports, r.mshrs = mshrs;
-    r.sets = size / (line * ways);
+    r.sets = size / (line * ways); /* index-addressed: floor, any whole number (the reference divides) */
     r.cycle = INT64_MIN;
     r.bank_cycle = INT64_MIN;
     for (int k = 0; k < 16; k++)
@@ -563,6 +650,12 @@ static void run_random(uint32_t size, uint32_t line, uint32_t ways, uint32_t ban
     tb_end();
 }
 
+static void run_random(uint32_t size, uint32_t line, uint32_t ways, uint32_t banks, uint32_t ports, uint32_t mshrs,
+                       uint32_t merge, bool requests, int ops)
+{
+    run_random_addressed(size, line, ways, banks, ports, mshrs, merge, requests, ops, 0);
+}
+
 int main(void)
 {
     test_hit_miss_merge();
@@ -573,6 +666,8 @@ int main(void)
     test_ports();
     test_banked_unaligned();
     test_create_errors();
+    test_index_addressed_96();
+    test_index_create_errors();
     int ops = tb_is_sanitized() ? 20000 : 100000;
     run_random(1024, 64, 4, 1, 1, 4, 64, false, ops);
     run_random(2048, 64, 4, 2, 1, 8, 64, false, ops);
@@ -583,5 +678,9 @@ int main(void)
     run_random(1024, 64, 4, 1, 1, 4, 2, true, ops);
     run_random(2048, 64, 4, 2, 2, 8, 3, true, ops);
     run_random(4096, 128, 4, 2, 1, 16, 1, true, ops);
+    /* index-addressed node words: 5, 2 per bank and 6 sets */
+    run_random_addressed(1024, 96, 2, 1, 1, 4, 64, false, ops, 1);
+    run_random_addressed(2048, 96, 2, 2, 2, 8, 3, true, ops, 1);
+    run_random_addressed(4096, 160, 4, 1, 1, 16, 2, true, ops, 1);
     return tb_finish();
 }

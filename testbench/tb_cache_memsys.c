@@ -363,7 +363,7 @@ static void test_build_errors_and_tables(void)
     ks_stats *reg = ks_stats_create();
     sim = ks_sim_create();
     clk = ks_clock_create(sim, "clk", 0);
-    cache_params p = {1024, 64, 4, 1, 1, 4, 4, 1};
+    cache_params p = {1024, 64, 4, 1, 1, 4, 4, 1, 0};
     cache_unit *u = cache_unit_create(sim, clk, "c", &p, err, sizeof err);
     TB_EQ_INT(cache_unit_register_stats(u, reg, "c"), 0);
     TB_EQ_INT(ks_stats_count(reg), ks_module_desc_count(&cache_unit_desc, KS_DESC_STAT));

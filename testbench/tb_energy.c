@@ -1,6 +1,7 @@
 /* tb_energy — the energy and area model (model/energy/energy_table.h, model/energy/energy.h):
  * table loading and its errors (file:line, key), the figure-matching rule
- * (exact rows, the scaling laws, structures with no figure refused), and
+ * (exact rows, the scaling laws, node-sized words of index-addressed caches,
+ * structures with no figure refused), and
  * energy/power/area arithmetic on a small machine computed by hand here. */
 #include <math.h>
 #include <stdio.h>
@@ -58,7 +59,7 @@ static void test_load_and_exact(void)
     TB_EQ_INT(load_small(&t, err, sizeof err), 0);
     TB_EQ_INT(t.nrows, 2);
     energy_sram fig;
-    energy_sram_req req = {"l1", ENERGY_CACHE, ENERGY_1RW, 16384, 4, 64};
+    energy_sram_req req = {"l1", ENERGY_CACHE, ENERGY_1RW, 16384, 4, 64, 0};
     TB_EQ_INT(energy_sram_figure(&t, &req, &fig, err, sizeof err), 0);
     TB_CHECK(!strcmp(fig.name, "c16k"), "row %s", fig.name);
     TB_NEAR(fig.area_mm2, 0.1);
@@ -77,19 +78,19 @@ static void test_scaling(void)
     TB_EQ_INT(load_small(&t, err, sizeof err), 0);
     energy_sram fig;
     /* a 32 KB cache: s = 2 -> area, leakage x2; energies x sqrt(2) */
-    energy_sram_req req = {"l1", ENERGY_CACHE, ENERGY_1RW, 32768, 4, 64};
+    energy_sram_req req = {"l1", ENERGY_CACHE, ENERGY_1RW, 32768, 4, 64, 0};
     TB_EQ_INT(energy_sram_figure(&t, &req, &fig, err, sizeof err), 0);
     TB_NEAR(fig.area_mm2, 0.2);
     TB_NEAR(fig.leak_mw, 20);
     TB_NEAR(fig.read_nj, 0.02 * sqrt(2.0));
     TB_NEAR(fig.write_nj, 0.03 * sqrt(2.0));
     /* a RAM of 64 entries x 16 B: s = 1, w = 1/2 -> area x1, energy x sqrt(1/2) */
-    energy_sram_req ram = {"fifo", ENERGY_RAM, ENERGY_1R1W, 1024, 0, 16};
+    energy_sram_req ram = {"fifo", ENERGY_RAM, ENERGY_1R1W, 1024, 0, 16, 0};
     TB_EQ_INT(energy_sram_figure(&t, &ram, &fig, err, sizeof err), 0);
     TB_NEAR(fig.area_mm2, 0.01);
     TB_NEAR(fig.read_nj, 0.004 * sqrt(0.5));
     /* a tiny RAM (2 entries x 32 B): any smaller RAM is allowed, s = 1/16 */
-    energy_sram_req tiny = {"fifo", ENERGY_RAM, ENERGY_1R1W, 64, 0, 32};
+    energy_sram_req tiny = {"fifo", ENERGY_RAM, ENERGY_1R1W, 64, 0, 32, 0};
     TB_EQ_INT(energy_sram_figure(&t, &tiny, &fig, err, sizeof err), 0);
     TB_NEAR(fig.area_mm2, 0.01 / 16);
     TB_NEAR(fig.read_nj, 0.004 / 4);
@@ -104,22 +105,22 @@ static void test_no_figure(void)
     TB_EQ_INT(load_small(&t, err, sizeof err), 0);
     energy_sram fig;
     /* another line size: no row */
-    energy_sram_req line32 = {"node_l1 (node_l1.size / node_l1.banks)", ENERGY_CACHE, ENERGY_1RW, 16384, 4, 32};
+    energy_sram_req line32 = {"node_l1 (node_l1.size / node_l1.banks)", ENERGY_CACHE, ENERGY_1RW, 16384, 4, 32, 0};
     TB_EQ_INT(energy_sram_figure(&t, &line32, &fig, err, sizeof err), -1);
     TB_CHECK(strstr(err, "node_l1") && strstr(err, "no SRAM figure") && strstr(err, "32-byte line"), "%s", err);
     /* more than 4x the row's size */
-    energy_sram_req big = {"node_l2", ENERGY_CACHE, ENERGY_1RW, 131072, 4, 64};
+    energy_sram_req big = {"node_l2", ENERGY_CACHE, ENERGY_1RW, 131072, 4, 64, 0};
     TB_EQ_INT(energy_sram_figure(&t, &big, &fig, err, sizeof err), -1);
     TB_CHECK(strstr(err, "[c16k]") && strstr(err, "within 4x"), "%s", err);
     /* a smaller cache than 1/4 of the row */
-    energy_sram_req small = {"node_l1", ENERGY_CACHE, ENERGY_1RW, 2048, 4, 64};
+    energy_sram_req small = {"node_l1", ENERGY_CACHE, ENERGY_1RW, 2048, 4, 64, 0};
     TB_EQ_INT(energy_sram_figure(&t, &small, &fig, err, sizeof err), -1);
     /* other ports */
-    energy_sram_req ports = {"stack", ENERGY_RAM, ENERGY_1RW, 1024, 0, 32};
+    energy_sram_req ports = {"stack", ENERGY_RAM, ENERGY_1RW, 1024, 0, 32, 0};
     TB_EQ_INT(energy_sram_figure(&t, &ports, &fig, err, sizeof err), -1);
     TB_CHECK(strstr(err, "none"), "%s", err);
     /* a word 8x wider than any row */
-    energy_sram_req wide = {"fifo", ENERGY_RAM, ENERGY_1R1W, 8192, 0, 256};
+    energy_sram_req wide = {"fifo", ENERGY_RAM, ENERGY_1R1W, 8192, 0, 256, 0};
     TB_EQ_INT(energy_sram_figure(&t, &wide, &fig, err, sizeof err), -1);
     tb_end();
 }
@@ -332,15 +333,82 @@ static void test_project_tables(void)
     snprintf(f, sizeof f, "%s/energy/fpu_45nm.ini", dir && *dir ? dir : "model/data");
     TB_EQ_INT(energy_table_load(&t, s, f, err, sizeof err), 0);
     energy_sram fig;
-    energy_sram_req l1 = {"node_l1", ENERGY_CACHE, ENERGY_1RW, 16384, 4, 128};
+    energy_sram_req l1 = {"node_l1", ENERGY_CACHE, ENERGY_1RW, 16384, 4, 128, 0};
     TB_EQ_INT(energy_sram_figure(&t, &l1, &fig, err, sizeof err), 0);
     TB_CHECK(!strcmp(fig.name, "l1node_mbvh4"), "%s", fig.name);
-    energy_sram_req prim = {"prim", ENERGY_CACHE, ENERGY_1RW, 65536, 4, 64};
+    energy_sram_req prim = {"prim", ENERGY_CACHE, ENERGY_1RW, 65536, 4, 64, 0};
     TB_EQ_INT(energy_sram_figure(&t, &prim, &fig, err, sizeof err), 0);
     TB_CHECK(!strcmp(fig.name, "prim_bank64k"), "%s", fig.name);
-    energy_sram_req stack = {"stack", ENERGY_RAM, ENERGY_1R1W, 8192, 0, 4};
+    energy_sram_req stack = {"stack", ENERGY_RAM, ENERGY_1R1W, 8192, 0, 4, 0};
     TB_EQ_INT(energy_sram_figure(&t, &stack, &fig, err, sizeof err), 0);
     TB_CHECK(!strcmp(fig.name, "stack_bvh_1r1w"), "%s", fig.name);
+    tb_end();
+}
+
+/* The node-word rule (energy_table.h): an index-addressed node cache's word
+ * of N x 32 B interpolated (or extrapolated) linearly in the line width
+ * between the 64 and 128 B rows of model/data/energy/sram_45nm.ini; the
+ * expected numbers are those rows' figures, combined by hand. */
+static void test_node_word(void)
+{
+    tb_begin("energy_node_word_interpolated_in_line_width");
+    static energy_table t;
+    char err[1200], s[600], f[600];
+    const char *dir = getenv("RTSIM_DATA_DIR");
+    snprintf(s, sizeof s, "%s/energy/sram_45nm.ini", dir && *dir ? dir : "model/data");
+    snprintf(f, sizeof f, "%s/energy/fpu_45nm.ini", dir && *dir ? dir : "model/data");
+    TB_EQ_INT(energy_table_load(&t, s, f, err, sizeof err), 0);
+    energy_sram fig;
+    /* MBVH3 L1: 16 KB, 4-way, 96 B words: the mean of [l1node_bvh] (64 B:
+     * 0.0827 mm2, 0.03352 / 0.04420 nJ, 21.439 mW) and [l1node_mbvh4]
+     * (128 B: 0.1524, 0.04241 / 0.05143, 19.431) */
+    energy_sram_req w96 = {"node_l1", ENERGY_CACHE, ENERGY_1RW, 16384, 4, 96, 1};
+    TB_EQ_INT(energy_sram_figure(&t, &w96, &fig, err, sizeof err), 0);
+    TB_NEAR(fig.area_mm2, 0.11755);
+    TB_NEAR(fig.read_nj, 0.037965);
+    TB_NEAR(fig.write_nj, 0.047815);
+    TB_NEAR(fig.leak_mw, 20.435);
+    TB_NEAR(fig.line, 96);
+    /* MBVH5: 160 B lies beyond the rows: extrapolated from 64 and 128 B,
+     * fraction (160 - 64) / 64 = 1.5 */
+    energy_sram_req w160 = {"node_l1", ENERGY_CACHE, ENERGY_1RW, 16384, 4, 160, 1};
+    TB_EQ_INT(energy_sram_figure(&t, &w160, &fig, err, sizeof err), 0);
+    TB_NEAR(fig.area_mm2, 0.0827 + 1.5 * (0.1524 - 0.0827));
+    TB_NEAR(fig.read_nj, 0.046855);
+    TB_NEAR(fig.write_nj, 0.055045);
+    TB_NEAR(fig.leak_mw, 18.427);
+    /* MBVH8: 256 B = 2x the widest row, the reach limit: 0.0827 + 3 x 0.0697 */
+    energy_sram_req w256 = {"node_l1", ENERGY_CACHE, ENERGY_1RW, 16384, 4, 256, 1};
+    TB_EQ_INT(energy_sram_figure(&t, &w256, &fig, err, sizeof err), 0);
+    TB_NEAR(fig.area_mm2, 0.2918);
+    /* the capacity an index-addressed 16 KB cache of 96 B words really has,
+     * 42 sets x 4 ways x 96 B = 16128 B: both rows first scaled by the size
+     * law (area x s, energies x sqrt(s)), then interpolated */
+    energy_sram_req cap = {"node_l1", ENERGY_CACHE, ENERGY_1RW, 16128, 4, 96, 1};
+    TB_EQ_INT(energy_sram_figure(&t, &cap, &fig, err, sizeof err), 0);
+    TB_NEAR(fig.area_mm2, 0.11755 * (16128.0 / 16384));
+    TB_NEAR(fig.read_nj, 0.037965 * sqrt(16128.0 / 16384));
+    /* the L2: 128 KB rows [l2node_bvh] 0.5088 and [l2node_mbvh4] 0.5084 mm2 */
+    energy_sram_req l2 = {"node_l2", ENERGY_CACHE, ENERGY_1RW, 131072, 4, 96, 1};
+    TB_EQ_INT(energy_sram_figure(&t, &l2, &fig, err, sizeof err), 0);
+    TB_NEAR(fig.area_mm2, 0.5086);
+    TB_NEAR(fig.read_nj, (0.12338 + 0.19867) / 2);
+    /* a word the table has: the row itself */
+    energy_sram_req w128 = {"node_l1", ENERGY_CACHE, ENERGY_1RW, 16384, 4, 128, 1};
+    TB_EQ_INT(energy_sram_figure(&t, &w128, &fig, err, sizeof err), 0);
+    TB_CHECK(!strcmp(fig.name, "l1node_mbvh4") && fig.area_mm2 == 0.1524, "%s %g", fig.name, fig.area_mm2);
+    /* refused: a byte-addressed 96 B line (no rule), a word beyond the reach */
+    energy_sram_req byte96 = {"node_l1", ENERGY_CACHE, ENERGY_1RW, 16384, 4, 96, 0};
+    TB_EQ_INT(energy_sram_figure(&t, &byte96, &fig, err, sizeof err), -1);
+    TB_CHECK(strstr(err, "no SRAM figure") && strstr(err, "96-byte line"), "%s", err);
+    energy_sram_req w288 = {"node_l1", ENERGY_CACHE, ENERGY_1RW, 16384, 4, 288, 1};
+    TB_EQ_INT(energy_sram_figure(&t, &w288, &fig, err, sizeof err), -1);
+    TB_CHECK(strstr(err, "node_l1") && strstr(err, "node-sized word") && strstr(err, "2x"), "%s", err);
+    /* a table with one cache line width cannot interpolate */
+    static energy_table one;
+    TB_EQ_INT(load_small(&one, err, sizeof err), 0);
+    TB_EQ_INT(energy_sram_figure(&one, &w96, &fig, err, sizeof err), -1);
+    TB_CHECK(strstr(err, "1 such row width"), "%s", err);
     tb_end();
 }
 
@@ -392,6 +460,7 @@ int main(void)
     test_load_errors();
     test_arithmetic();
     test_project_tables();
+    test_node_word();
     test_parts_declared();
     return tb_finish();
 }

@@ -99,7 +99,7 @@ energy_model *energy_model_create_with(const energy_table *table, const energy_m
     }
     double per_bank = (double)m->stack_slots * (double)((m->stack_depth + m->stack_banks - 1) / m->stack_banks);
     energy_sram_req sreq = {"trv stack bank (trv.slots, trv.stack_depth, trv.stack_banks)", ENERGY_RAM, ENERGY_1R1W,
-                            per_bank * m->stack_entry_bytes, 0, m->stack_entry_bytes};
+                            per_bank * m->stack_entry_bytes, 0, m->stack_entry_bytes, 0};
     em->stack_part = em->nparts;
     if (add_sram(em, "trv.stack_bank", EU_STACK, m->trv_count * m->stack_banks, &sreq, err, errlen))
         goto fail;
@@ -109,7 +109,7 @@ energy_model *energy_model_create_with(const energy_table *table, const energy_m
         char what[96];
         snprintf(what, sizeof what, "%s (%s.size / %s.banks)", m->cache[i].name, m->cache[i].name, m->cache[i].name);
         energy_sram_req creq = {what, ENERGY_CACHE, ENERGY_1RW, m->cache[i].size / m->cache[i].banks,
-                                m->cache[i].ways, m->cache[i].line};
+                                m->cache[i].ways, m->cache[i].line, (int)m->cache[i].node_word};
         if (add_sram(em, m->cache[i].name, EU_CACHE, m->cache[i].count * m->cache[i].banks, &creq, err, errlen))
             goto fail;
         /* a multi-ported cache: the 1-port figure scaled by the table's law */
@@ -123,7 +123,7 @@ energy_model *energy_model_create_with(const energy_table *table, const energy_m
         char what[96];
         snprintf(what, sizeof what, "FIFO %s", m->fifo[i].key);
         energy_sram_req freq = {what, ENERGY_RAM, ENERGY_1R1W, m->fifo[i].entries * m->fifo[i].width_bytes, 0,
-                                m->fifo[i].width_bytes};
+                                m->fifo[i].width_bytes, 0};
         if (add_sram(em, m->fifo[i].key, EU_FIFO, m->fifo[i].count, &freq, err, errlen))
             goto fail;
     }

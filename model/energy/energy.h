@@ -69,7 +69,8 @@ typedef struct energy_machine {
     /* stacks of one TRV: banks of (slots x ceil(depth / banks)) entries */
     unsigned stack_slots, stack_depth, stack_banks, stack_entry_bytes;
     /* caches: size, line, ways, ports, banks (the line is per bank) */
-    struct { const char *name; unsigned count; double size, line, ways; unsigned ports, banks; } cache[3];
+    /* node_word: index-addressed, the line is a node (energy_table.h's node-word rule) */
+    struct { const char *name; unsigned count; double size, line, ways; unsigned ports, banks, node_word; } cache[3];
     int ncache;
     /* FIFOs: one entry per configuration key */
     struct { const char *key; unsigned count; double entries, width_bytes; } fifo[24];

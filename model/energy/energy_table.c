@@ -211,8 +211,9 @@ int energy_table_load(energy_table *t, const char *sram_path, const char *fpu_pa
 static const char *kind_name(energy_kind k) { return k == ENERGY_CACHE ? "cache" : "ram"; }
 static const char *ports_name(energy_ports p) { return p == ENERGY_1RW ? "1rw" : "1r1w"; }
 
-int energy_sram_figure(const energy_table *t, const energy_sram_req *req, energy_sram *out, char *err,
-                       size_t errlen)
+/* The rule of energy_table.h without the node-word interpolation. */
+static int figure_of_row_line(const energy_table *t, const energy_sram_req *req, energy_sram *out, char *err,
+                              size_t errlen)
 {
     int best = -1;
     double best_d = 0;
@@ -282,5 +283,88 @@ int energy_sram_ports(const energy_table *t, const char *what, unsigned ports, e
     fig->read_nj *= pow(t->mp.read, e);
     fig->write_nj *= pow(t->mp.write, e);
     fig->leak_mw *= pow(t->mp.leak, e);
+    return 0;
+}
+
+/* Node-word rule (energy_table.h): an index-addressed cache's word, a node
+ * of N x 32 B, is a line width the CACTI rows may lack (96, 160, 192, 224,
+ * 256 B against rows of 64 and 128 B). Each figure is interpolated linearly
+ * in the line width between the two neighbouring widths the table covers at
+ * this size and ways (each first scaled to the size by the rule above), or
+ * extrapolated from the two nearest when the word lies outside them, at most
+ * ENERGY_NODE_WORD_REACH times beyond (a 256 B word from 64 and 128 B rows).
+ * Linear in the width because CACTI's cache rows are: between a 64 and a
+ * 128 B line the 16 KB L1 grows in area 0.0827 -> 0.1524 mm2 and in read
+ * energy 0.0335 -> 0.0424 nJ with the port and sense amplifiers, which grow
+ * with the bits per access (model/data/energy/sram_45nm.ini). */
+#define ENERGY_NODE_WORD_REACH 2.0
+
+int energy_sram_figure(const energy_table *t, const energy_sram_req *req, energy_sram *out, char *err,
+                       size_t errlen)
+{
+    if (!(req->kind == ENERGY_CACHE && req->node_word))
+        return figure_of_row_line(t, req, out, err, errlen);
+    char why[1024];
+    if (figure_of_row_line(t, req, out, why, sizeof why) == 0)
+        return 0;
+    /* the line widths of the candidate rows, ascending, that cover this size */
+    double width[ENERGY_MAX_ROWS];
+    energy_sram fig[ENERGY_MAX_ROWS];
+    int n = 0;
+    for (int r = 0; r < t->nrows; r++) {
+        const energy_sram *row = &t->rows[r];
+        if (row->kind != req->kind || row->ports != req->ports || row->ways != req->ways)
+            continue;
+        int k = 0;
+        while (k < n && width[k] < row->line)
+            k++;
+        if (k < n && width[k] == row->line)
+            continue;
+        energy_sram_req at = *req;
+        at.line = row->line;
+        at.node_word = 0;
+        energy_sram f;
+        char ignore[8];
+        if (figure_of_row_line(t, &at, &f, ignore, sizeof ignore))
+            continue;
+        memmove(width + k + 1, width + k, (size_t)(n - k) * sizeof *width);
+        memmove(fig + k + 1, fig + k, (size_t)(n - k) * sizeof *fig);
+        width[k] = row->line;
+        fig[k] = f;
+        n++;
+    }
+    int a = -1;   /* the pair (a, a + 1) */
+    if (n >= 2) {
+        a = 0;
+        while (a + 2 < n && width[a + 1] < req->line)
+            a++;
+        double lo = width[0], hi = width[n - 1];
+        if (req->line > hi * ENERGY_NODE_WORD_REACH || req->line < lo / ENERGY_NODE_WORD_REACH)
+            a = -1;
+    }
+    if (a < 0) {
+        snprintf(err, errlen,
+                 "%s; a node-sized word is interpolated in the line width between two rows of its size, ways and "
+                 "ports, or extrapolated up to %gx beyond them: %d such row width(s)",
+                 why, ENERGY_NODE_WORD_REACH, n);
+        return -1;
+    }
+    const double f = (req->line - width[a]) / (width[a + 1] - width[a]);
+    const energy_sram *x = &fig[a], *y = &fig[a + 1];
+    *out = *x;
+    snprintf(out->name, sizeof out->name, "%.20s~%.20s", x->name, y->name);
+    out->line = req->line;
+    out->area_mm2 = x->area_mm2 + f * (y->area_mm2 - x->area_mm2);
+    out->read_nj = x->read_nj + f * (y->read_nj - x->read_nj);
+    out->write_nj = x->write_nj + f * (y->write_nj - x->write_nj);
+    out->leak_mw = x->leak_mw + f * (y->leak_mw - x->leak_mw);
+    if (!(out->area_mm2 > 0 && out->read_nj > 0 && out->write_nj > 0 && out->leak_mw > 0)) {
+        snprintf(err, errlen,
+                 "%s: a %.0f-byte node word extrapolated from the %.0f and %.0f B rows of %s gives a figure <= 0 "
+                 "(area %g mm2, read %g nJ, write %g nJ, leak %g mW)",
+                 req->what, req->line, width[a], width[a + 1], t->sram_path, out->area_mm2, out->read_nj,
+                 out->write_nj, out->leak_mw);
+        return -1;
+    }
     return 0;
 }

@@ -20,6 +20,15 @@
  *      entries; the laws then overestimate); outside, or with no candidate,
  *      the structure has no figure and the call fails with a message naming
  *      the structure and what the tables offer (never a silent zero).
+ *  - node words (energy_sram_req.node_word: an index-addressed node cache,
+ *    whose line is one node of N x 32 B, docs/energy.md): when no row has
+ *    that line, each figure (area, read, write, leakage) is interpolated
+ *    linearly in the line width between the two neighbouring line widths
+ *    of rows of the same kind, ports and ways, each scaled to the size by
+ *    the rule above; outside the widths the rows cover, extrapolated from
+ *    the two nearest, up to 2x beyond the widest (or below the narrowest);
+ *    a figure <= 0 fails. 16 KB, 4-way, 96 B from the 64 and 128 B rows:
+ *    the mean of the two (energy_table.c cites the law's source).
  * Deterministic; no state beyond the loaded table. */
 #ifndef RTSIM_MODEL_ENERGY_TABLE_H
 #define RTSIM_MODEL_ENERGY_TABLE_H
@@ -67,6 +76,7 @@ typedef struct energy_sram_req {
     energy_kind kind;
     energy_ports ports;
     double size, ways, line;
+    int node_word;           /* 1: line is a node-sized word (node-word rule above) */
 } energy_sram_req;
 
 int energy_table_load(energy_table *t, const char *sram_path, const char *fpu_path, char *err, size_t errlen);

@@ -8,7 +8,14 @@
  * invalid ways are filled first, lowest index first. Ports: at most `ports`
  * accesses per cycle, and each bank reads at most `ports` lines per cycle (an
  * access with more lines in one bank takes that bank for ceil(k/ports)
- * cycles). Fills use a separate write port (no access port or bank cycle). */
+ * cycles). Fills use a separate write port (no access port or bank cycle).
+ *
+ * Index-addressed (cache_params.index_addressed; paper sec. 3.1, the node
+ * hierarchy "addressed with array indices rather than byte addresses, and
+ * use a node-sized data word"): L = addr / line (a division: the line is a
+ * node, 96 B for MBVH3), set within the bank = (L / banks) mod
+ * sets_per_bank, sets_per_bank any whole number >= 1. Byte-addressed caches
+ * keep the shifts and masks (the hot path of every default machine). */
 #include "model/mem/cache.h"
 
 #include <stdio.h>
@@ -35,6 +42,7 @@ typedef struct waiter {
 struct cache {
     cache_params p;
     uint32_t line_shift, bank_shift, sets_per_bank;
+    bool index;           /* index-addressed: divide and modulo instead of shift and mask */
     uint32_t nsets;
     uint64_t *tag;        /* line number per way, nsets * ways; NO_LINE while invalid */
     uint64_t *stamp;      /* 0 = invalid */
@@ -72,9 +80,23 @@ static uint32_t log2u(uint64_t v)
 }
 static bool pow2(uint64_t v) { return v && !(v & (v - 1)); }
 
+uint64_t cache_capacity_bytes(const cache_params *p)
+{
+    if (!p->index_addressed)
+        return p->size_bytes;
+    const uint64_t per_set = (uint64_t)p->line_bytes * p->ways * p->banks;
+    return per_set ? p->size_bytes / per_set * per_set : 0;
+}
+
 cache *cache_create(const cache_params *p, char *err, size_t errlen)
 {
-    if (!pow2(p->size_bytes) || !pow2(p->line_bytes) || p->line_bytes < 16) {
+    if (p->index_addressed) {
+        if (!pow2(p->size_bytes) || p->line_bytes < 16 || p->line_bytes % 16) {
+            snprintf(err, errlen, "cache: size %u must be a power of two, index-addressed word %u a multiple of 16",
+                     p->size_bytes, p->line_bytes);
+            return NULL;
+        }
+    } else if (!pow2(p->size_bytes) || !pow2(p->line_bytes) || p->line_bytes < 16) {
         snprintf(err, errlen, "cache: size %u and line %u must be powers of two, line >= 16", p->size_bytes,
                  p->line_bytes);
         return NULL;
@@ -87,9 +109,9 @@ cache *cache_create(const cache_params *p, char *err, size_t errlen)
         return NULL;
     }
     uint64_t per_set = (uint64_t)p->line_bytes * p->ways * p->banks;
-    if (p->size_bytes % per_set || !pow2(p->size_bytes / per_set)) {
-        snprintf(err, errlen, "cache: size/(line*ways*banks) = %u/(%u*%u*%u) must be a power of two >= 1",
-                 p->size_bytes, p->line_bytes, p->ways, p->banks);
+    if (p->index_addressed ? p->size_bytes < per_set : p->size_bytes % per_set || !pow2(p->size_bytes / per_set)) {
+        snprintf(err, errlen, "cache: size/(line*ways*banks) = %u/(%u*%u*%u) must be %s>= 1", p->size_bytes,
+                 p->line_bytes, p->ways, p->banks, p->index_addressed ? "" : "a power of two ");
         return NULL;
     }
     cache *c = calloc(1, sizeof *c);
@@ -98,6 +120,7 @@ cache *cache_create(const cache_params *p, char *err, size_t errlen)
         return NULL;
     }
     c->p = *p;
+    c->index = p->index_addressed != 0;
     c->line_shift = log2u(p->line_bytes);
     c->bank_shift = log2u(p->banks);
     c->sets_per_bank = (uint32_t)(p->size_bytes / per_set);
@@ -165,10 +188,21 @@ void cache_destroy(cache *c)
 
 const cache_params *cache_get_params(const cache *c) { return &c->p; }
 
+/* Line (word) number of a byte address, and the first byte of a line. */
+static inline uint64_t line_of(const cache *c, uint64_t addr)
+{
+    return c->index ? addr / c->p.line_bytes : addr >> c->line_shift;
+}
+static inline uint64_t addr_of(const cache *c, uint64_t line)
+{
+    return c->index ? line * c->p.line_bytes : line << c->line_shift;
+}
 static inline uint32_t bank_of(const cache *c, uint64_t line) { return (uint32_t)(line & (c->p.banks - 1)); }
 static inline uint32_t set_of(const cache *c, uint64_t line)
 {
-    return bank_of(c, line) * c->sets_per_bank + (uint32_t)((line >> c->bank_shift) & (c->sets_per_bank - 1));
+    const uint64_t in_bank = line >> c->bank_shift;
+    return bank_of(c, line) * c->sets_per_bank +
+           (uint32_t)(c->index ? in_bank % c->sets_per_bank : in_bank & (c->sets_per_bank - 1));
 }
 
 /* Way index of a present line, or -1 (invalid ways hold NO_LINE). */
@@ -373,8 +407,8 @@ static inline __attribute__((always_inline)) cache_result access_lines(cache *c,
         c->st.blocked_port++;
         return CACHE_BLOCKED;
     }
-    uint64_t first = addr >> c->line_shift;
-    uint64_t last = (addr + (bytes ? bytes : 1) - 1) >> c->line_shift;
+    uint64_t first = line_of(c, addr);
+    uint64_t last = line_of(c, addr + (bytes ? bytes : 1) - 1);
     if (first == last) {
         /* one line (every node-cache probe): the general path below specialised
          * to n = 1, with the same checks in the same order and the same effects
@@ -519,7 +553,7 @@ bool cache_peek_miss(const cache *c, mem_req *out)
         return false;
     int k = c->missq[c->missq_head];
     memset(out, 0, sizeof *out);
-    out->addr = c->m[k].line << c->line_shift;
+    out->addr = addr_of(c, c->m[k].line);
     out->bytes = c->p.line_bytes;
     out->tag = (uint64_t)k;
     return true;
@@ -537,7 +571,7 @@ bool cache_pop_miss(cache *c, mem_req *out)
 int cache_fill(cache *c, const mem_resp *resp, int64_t now)
 {
     (void)now;
-    uint64_t line = resp->addr >> c->line_shift;
+    uint64_t line = line_of(c, resp->addr);
     if (resp->tag >= c->p.mshrs || !c->m[resp->tag].busy || c->m[resp->tag].line != line)
         return -1;
     mshr *m = &c->m[resp->tag];
@@ -590,17 +624,17 @@ bool cache_pop_ready(cache *c, mem_req *out)
     return true;
 }
 
-bool cache_contains(const cache *c, uint64_t addr) { return lookup(c, addr >> c->line_shift) >= 0; }
+bool cache_contains(const cache *c, uint64_t addr) { return lookup(c, line_of(c, addr)) >= 0; }
 
 bool cache_present(void *ctx, uint64_t addr, uint32_t bytes)
 {
     const cache *c = ctx;
-    for (uint64_t l = addr >> c->line_shift, last = (addr + (bytes ? bytes : 1) - 1) >> c->line_shift; l <= last; l++)
+    for (uint64_t l = line_of(c, addr), last = line_of(c, addr + (bytes ? bytes : 1) - 1); l <= last; l++)
         if (lookup(c, l) < 0)
             return false;
     return true;
 }
-bool cache_line_pending(const cache *c, uint64_t addr) { return find_mshr(c, addr >> c->line_shift) >= 0; }
+bool cache_line_pending(const cache *c, uint64_t addr) { return find_mshr(c, line_of(c, addr)) >= 0; }
 int cache_mshrs_busy(const cache *c) { return c->mshr_busy; }
 int cache_misses_queued(const cache *c) { return c->missq_n; }
 int cache_ready_count(const cache *c) { return c->ready_n; }
@@ -623,5 +657,5 @@ void cache_describe(const cache *c, int64_t now, char *buf, size_t len)
                      c->ready_n);
     if (oldest >= 0 && n >= 0 && (size_t)n < len)
         snprintf(buf + n, len - (size_t)n, ", oldest miss 0x%llx waiting %lld cycles",
-                 (unsigned long long)(c->m[oldest].line << c->line_shift), (long long)(now - c->m[oldest].since));
+                 (unsigned long long)addr_of(c, c->m[oldest].line), (long long)(now - c->m[oldest].since));
 }

@@ -44,13 +44,21 @@
 
 typedef struct cache_params {
     uint32_t size_bytes;    /* capacity, power of two */
-    uint32_t line_bytes;    /* power of two, >= 16 */
+    uint32_t line_bytes;    /* power of two, >= 16 (index-addressed: any multiple of 16) */
     uint32_t ways;          /* >= 1; sets = size / (line * ways) must be a power of two */
     uint32_t banks;         /* 1 or a power of two; line-interleaved */
     uint32_t ports;         /* accesses accepted per cycle */
     uint32_t mshrs;         /* outstanding missing lines */
     uint32_t mshr_merge;    /* requesters that may wait on one MSHR */
     uint32_t hit_latency;   /* cycles from access to data (for cache_unit) */
+    /* 0: byte-addressed (above). 1: index-addressed (paper sec. 3.1, the node
+     * caches' alternative for nodes that are not a power of two): a line is
+     * one word of line_bytes (a node, N x 32 B), its number is addr /
+     * line_bytes (the node index), and a bank holds
+     * sets = floor(size / (line * ways * banks)) >= 1 sets, any whole number,
+     * set = (word / banks) mod sets; capacity used = sets * ways * banks *
+     * line <= size (cache_capacity_bytes). */
+    uint32_t index_addressed;
 } cache_params;
 
 typedef enum cache_result { CACHE_HIT, CACHE_MISS, CACHE_BLOCKED } cache_result;
@@ -78,6 +86,9 @@ typedef struct cache_stats {
 cache *cache_create(const cache_params *p, char *err, size_t errlen);
 void cache_destroy(cache *c);
 const cache_params *cache_get_params(const cache *c);
+/* Bytes the data array holds: size_bytes, or for an index-addressed cache
+ * sets * ways * banks * line_bytes (<= size_bytes). */
+uint64_t cache_capacity_bytes(const cache_params *p);
 
 /* Probe [addr, addr+bytes) for a requester that retries on a miss (TRV node
  * L1, IST primitive cache). Missing lines get an MSHR (or merge into one; a

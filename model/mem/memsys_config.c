@@ -12,7 +12,8 @@
 #include "model/dram/dram_timing.h"
 #include "tracer/bvh_layout.h"
 
-#define CACHE_PARAMS(size, line, banks, mshrs, merge, lat)                                                             \
+/* The keys every cache has (ADDRESSING: the node caches' extra key, or nothing). */
+#define CACHE_PARAMS(size, line, banks, mshrs, merge, lat, ...)                                                        \
     {                                                                                                                  \
         {"size", RTCFG_INT, size, 64, 1073741824.0, RTCFG_POW2, NULL, "bytes", "capacity"},                           \
         {"line", RTCFG_INT, line, 16, 4096, RTCFG_POW2, NULL, "bytes", "line size (node caches: node size)"},          \
@@ -22,16 +23,26 @@
         {"mshrs", RTCFG_INT, mshrs, 1, 256, 0, NULL, "lines", "miss status holding registers (missing lines)"},       \
         {"mshr_merge", RTCFG_INT, merge, 1, 64, 0, NULL, "requests", "requests that may wait on one MSHR"},           \
         {"hit_latency", RTCFG_INT, lat, 1, 1000, 0, NULL, "cycles", "cycles from access to data"},                    \
+        __VA_ARGS__                                                                                                    \
     }
 
-static const rtcfg_param node_l1_params[] = CACHE_PARAMS("16K", "128", "1", "8", "4", "1");
-static const rtcfg_param node_l2_params[] = CACHE_PARAMS("128K", "128", "1", "32", "8", "4");
-static const rtcfg_param prim_params[] = CACHE_PARAMS("128K", "64", "2", "32", "8", "2");
+/* Node caches only: paper sec. 3.1's two organisations for nodes that are
+ * not a power of two bytes (MBVH3, 5, 6): byte addresses and power-of-two
+ * lines (nodes may straddle lines), or "array indices rather than byte
+ * addresses, and ... a node-sized data word" (a line is one node). Both node
+ * caches must agree (check_caches). */
+#define NODE_ADDRESSING                                                                                                \
+    {"addressing", RTCFG_ENUM, "byte", 0, 0, 0, "byte|index", "",                                                    \
+     "byte: lines of `line` B; index: one node per line (N x 32 B, `line` unused), tag/set from the node index"}
+
+static const rtcfg_param node_l1_params[] = CACHE_PARAMS("16K", "128", "1", "8", "4", "1", NODE_ADDRESSING);
+static const rtcfg_param node_l2_params[] = CACHE_PARAMS("128K", "128", "1", "32", "8", "4", NODE_ADDRESSING);
+static const rtcfg_param prim_params[] = CACHE_PARAMS("128K", "64", "2", "32", "8", "2", );
 
 static int check_caches(const rtcfg *cfg, char *err, size_t errlen);
 
-const rtcfg_schema memsys_schema_node_l1 = {"node_l1", "per-TRV node L1 cache", node_l1_params, 8, check_caches};
-const rtcfg_schema memsys_schema_node_l2 = {"node_l2", "node L2 cache shared by the TRVs", node_l2_params, 8, NULL};
+const rtcfg_schema memsys_schema_node_l1 = {"node_l1", "per-TRV node L1 cache", node_l1_params, 9, check_caches};
+const rtcfg_schema memsys_schema_node_l2 = {"node_l2", "node L2 cache shared by the TRVs", node_l2_params, 9, NULL};
 const rtcfg_schema memsys_schema_prim = {"prim", "primitive (triangle) cache of the IST", prim_params, 8, NULL};
 
 static const rtcfg_param memory_params[] = {
@@ -207,13 +218,40 @@ void memsys_cache_params(const rtcfg *cfg, const char *section, cache_params *ou
     GET(mshr_merge, "mshr_merge");
     GET(hit_latency, "hit_latency");
 #undef GET
+    out->index_addressed = 0;
+    snprintf(key, sizeof key, "%s.addressing", section);
+    if (rtcfg_has(cfg, key) && rtcfg_enum(cfg, key) == MEMSYS_INDEX) {
+        /* one node per line: the node size replaces `line` */
+        out->index_addressed = 1;
+        out->line_bytes = (uint32_t)memsys_node_bytes(cfg);
+    }
+}
+
+int64_t memsys_node_bytes(const rtcfg *cfg) { return RT_SLOT_BYTES * rtcfg_int(cfg, "machine.branching"); }
+
+int64_t memsys_line_bytes(const rtcfg *cfg, const char *section)
+{
+    cache_params p;
+    memsys_cache_params(cfg, section, &p);
+    return p.line_bytes;
 }
 
 static int is_pow2(uint64_t v) { return v && !(v & (v - 1)); }
 
 int memsys_check_cache_params(const cache_params *p, const char *s, char *err, size_t errlen)
 {
-    if (!is_pow2(p->size_bytes) || !is_pow2(p->line_bytes) || p->line_bytes < 16)
+    if (p->index_addressed) {
+        /* the word is a node (N x 32 B): any whole number of sets */
+        uint64_t per_set = (uint64_t)p->line_bytes * p->ways * p->banks;
+        if (!is_pow2(p->size_bytes) || p->line_bytes < 16 || p->line_bytes % 16)
+            return rtcfg_errorf(err, errlen, "%s.size = %u must be a power of two (index-addressed, %u-byte words)", s,
+                                p->size_bytes, p->line_bytes);
+        if (p->ways == 0 || p->banks == 0 || !is_pow2(p->banks) || p->size_bytes < per_set)
+            return rtcfg_errorf(err, errlen,
+                                "[%s]: %s.addressing = index: size/(node*ways*banks) = %u/(%u*%u*%u) must be >= 1 "
+                                "set (banks a power of two); raise %s.size or lower %s.ways",
+                                s, s, p->size_bytes, p->line_bytes, p->ways, p->banks, s, s);
+    } else if (!is_pow2(p->size_bytes) || !is_pow2(p->line_bytes) || p->line_bytes < 16)
         return rtcfg_errorf(err, errlen, "%s.size = %u and %s.line = %u: both must be powers of two (line >= 16)", s,
                             p->size_bytes, s, p->line_bytes);
     if (p->ways == 0 || p->banks == 0 || !is_pow2(p->banks) || p->ports == 0 || p->mshrs == 0 || p->mshr_merge == 0 ||
@@ -223,7 +261,7 @@ int memsys_check_cache_params(const cache_params *p, const char *s, char *err, s
                             "(got ways=%u banks=%u ports=%u mshrs=%u mshr_merge=%u hit_latency=%u)",
                             s, p->ways, p->banks, p->ports, p->mshrs, p->mshr_merge, p->hit_latency);
     uint64_t per_set = (uint64_t)p->line_bytes * p->ways * p->banks;
-    if (p->size_bytes % per_set || !is_pow2(p->size_bytes / per_set))
+    if (!p->index_addressed && (p->size_bytes % per_set || !is_pow2(p->size_bytes / per_set)))
         return rtcfg_errorf(err, errlen,
                             "[%s]: size/(line*ways*banks) = %u/(%u*%u*%u) must be a whole power of two >= 1 "
                             "(sets per bank); change %s.ways or %s.size",
@@ -274,7 +312,7 @@ static int check_caches(const rtcfg *cfg, char *err, size_t errlen)
         if (!rtcfg_has(cfg, ks))
             continue;
         int64_t bytes = i == 0 ? RT_SLOT_BYTES * rtcfg_int(cfg, "machine.branching") : RT_TRI_BYTES;
-        int64_t size = rtcfg_int(cfg, ks), line = rtcfg_int(cfg, kl);
+        int64_t size = rtcfg_int(cfg, ks), line = memsys_line_bytes(cfg, fits[i].sec);
         int64_t need = memsys_lines_touched(bytes, line);
         if (need > CACHE_MAX_LINES_PER_ACCESS) {
             int64_t min_line = line;
@@ -322,8 +360,18 @@ static int check_caches(const rtcfg *cfg, char *err, size_t errlen)
                                 ks, (long long)size, (long long)(size / line), kl, (long long)line, fits[i].what,
                                 (long long)bytes, (long long)need, ks, (long long)(need * line));
     }
-    if (rtcfg_has(cfg, "node_l2.line") &&
-        rtcfg_int(cfg, "node_l1.line") > rtcfg_int(cfg, "node_l2.line"))
+    if (!rtcfg_has(cfg, "node_l2.line"))
+        return 0;
+    /* paper sec. 3.1: "the node cache hierarchy" is addressed one way; a
+     * mixed pair would make an L1 fill a part of an L2 line, or straddle
+     * two L2 words */
+    if (rtcfg_enum(cfg, "node_l1.addressing") != rtcfg_enum(cfg, "node_l2.addressing"))
+        return rtcfg_errorf(err, errlen,
+                            "node_l1.addressing = %s (%s) but node_l2.addressing = %s (%s): the node cache hierarchy "
+                            "is addressed one way (byte|index, both keys the same; an L1 fill is one L2 line)",
+                            rtcfg_str(cfg, "node_l1.addressing"), rtcfg_source(cfg, "node_l1.addressing"),
+                            rtcfg_str(cfg, "node_l2.addressing"), rtcfg_source(cfg, "node_l2.addressing"));
+    if (rtcfg_int(cfg, "node_l1.line") > rtcfg_int(cfg, "node_l2.line") && rtcfg_enum(cfg, "node_l1.addressing") == MEMSYS_BYTE)
         return rtcfg_errorf(err, errlen, "node_l1.line = %lld must be <= node_l2.line = %lld (an L1 fill is one L2 line)",
                             (long long)rtcfg_int(cfg, "node_l1.line"), (long long)rtcfg_int(cfg, "node_l2.line"));
     return 0;

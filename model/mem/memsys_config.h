@@ -14,7 +14,9 @@
  *              (config.h), registered by rtcfg_finish once memory.dram_config
  *              is final, defaults = the file's values (docs/dram.md).
  * Cross-key checks (rtcfg_finish): sets per bank = size/(line*ways*banks) >= 1,
- * node_l1.line <= node_l2.line (an L1 fill is one L2 request); the DRAM
+ * node_l1.line <= node_l2.line (an L1 fill is one L2 request), node_l1 and
+ * node_l2 .addressing equal (byte: power-of-two lines; index: a line is one
+ * node, docs/energy.md "Branching factors 2..8"); the DRAM
  * standard with the [dram] values loads (dram_spec_load: ranges, the key
  * named). With memory.model = fixed an unreadable DRAM file is no error (the
  * [dram] section is then absent). */
@@ -28,6 +30,8 @@
 #include "config/config.h"
 
 typedef enum memsys_model { MEMSYS_FIXED = 0, MEMSYS_LPDDR3 = 1 } memsys_model;
+/* node_l1.addressing, node_l2.addressing (in this order in the enum text). */
+typedef enum memsys_addressing { MEMSYS_BYTE = 0, MEMSYS_INDEX = 1 } memsys_addressing;
 
 extern const rtcfg_schema memsys_schema_node_l1, memsys_schema_node_l2, memsys_schema_prim, memsys_schema_memory,
     memsys_schema_fifo;
@@ -43,8 +47,14 @@ int memsys_dram_path(const rtcfg *cfg, char *buf, size_t len);
  * messages ("--set dram.timing.nCL=99" or "FILE:LINE"). */
 int memsys_dram_spec_load(const rtcfg *cfg, struct dram_spec *spec, char *err, size_t errlen);
 
-/* Cache parameters of a section ("node_l1", "node_l2", "prim"). */
+/* Cache parameters of a section ("node_l1", "node_l2", "prim"). With
+ * SECTION.addressing = index the line is the node (memsys_node_bytes) and
+ * SECTION.line is not used. */
 void memsys_cache_params(const rtcfg *cfg, const char *section, cache_params *out);
+/* The line (index-addressed: word) size a cache section really has. */
+int64_t memsys_line_bytes(const rtcfg *cfg, const char *section);
+/* Bytes of one BVH node: machine.branching x 32 (tracer/bvh_layout.h). */
+int64_t memsys_node_bytes(const rtcfg *cfg);
 
 /* Checks a cache's parameters; the message names SECTION.key. */
 int memsys_check_cache_params(const cache_params *p, const char *section, char *err, size_t errlen);

@@ -31,7 +31,7 @@ typedef struct fn_state {
     const rt_bvh_image *img;
     rt_trv_params tp;
     rtsim_frame frame;
-    cache *l1[FID_MAX_TRV], *l2, *prim;
+    cache_core *l1[FID_MAX_TRV], *l2, *prim;
     int64_t now_l1[FID_MAX_TRV], now_l2, now_prim;
     dram_spec spec;
     dram_addrmap map;
@@ -101,13 +101,13 @@ static void dram_read(fn_state *st, uint64_t addr, uint32_t bytes)
 }
 
 /* Serves every queued miss of c at once from below (next = NULL: DRAM). */
-static void fill_misses(fn_state *st, cache *c, int64_t now, cache *next, int64_t *next_now)
+static void fill_misses(fn_state *st, cache_core *c, int64_t now, cache_core *next, int64_t *next_now)
 {
     mem_req q;
-    while (cache_pop_miss(c, &q)) {
+    while (cache_core_pop_miss(c, &q)) {
         if (next) {
             cache_result r;
-            while ((r = cache_access(next, q.addr, q.bytes, *next_now)) == CACHE_BLOCKED)
+            while ((r = cache_core_access(next, q.addr, q.bytes, *next_now)) == CACHE_BLOCKED)
                 *next_now += 1;
             *next_now += 1;
             if (r == CACHE_MISS)
@@ -116,21 +116,21 @@ static void fill_misses(fn_state *st, cache *c, int64_t now, cache *next, int64_
             dram_read(st, q.addr, q.bytes);
         }
         mem_resp resp = {q.addr, q.bytes, q.src, 0, q.tag};
-        cache_fill(c, &resp, now);
+        cache_core_fill(c, &resp, now);
     }
 }
 
 /* One access of a ray through its caches. */
 static void do_access(fn_state *st, const fn_access *a, uint32_t trv)
 {
-    cache *c = a->is_tri ? st->prim : st->l1[trv];
+    cache_core *c = a->is_tri ? st->prim : st->l1[trv];
     int64_t *now = a->is_tri ? &st->now_prim : &st->now_l1[trv];
     uint32_t bytes = a->is_tri ? RT_TRI_BYTES : st->img->node_bytes;
     cache_result r;
     /* ports and banks are per cycle: each access gets cycles of its own */
-    while ((r = cache_access(c, a->addr, bytes, *now)) == CACHE_BLOCKED)
+    while ((r = cache_core_access(c, a->addr, bytes, *now)) == CACHE_BLOCKED)
         *now += 1;
-    *now += cache_last_access_cycles(c) + 1;
+    *now += cache_core_last_access_cycles(c) + 1;
     if (r == CACHE_MISS) {
         if (a->is_tri)
             fill_misses(st, c, *now, NULL, NULL);
@@ -139,12 +139,12 @@ static void do_access(fn_state *st, const fn_access *a, uint32_t trv)
     }
 }
 
-static int make_cache(const rtcfg *cfg, const char *section, cache **out, char *err, size_t errlen)
+static int make_cache(const rtcfg *cfg, const char *section, cache_core **out, char *err, size_t errlen)
 {
     cache_params p;
     memsys_cache_params(cfg, section, &p);
     /* misses are filled at once: one MSHR in use at a time per access line */
-    *out = cache_create(&p, err, errlen);
+    *out = cache_core_create(&p, err, errlen);
     return *out ? 0 : -1;
 }
 
@@ -337,13 +337,13 @@ int fid_functional_run(const fid_job *job, const uint32_t *pixels, uint32_t npix
     }
     for (uint32_t i = 0; i < ntrv; i++) {
         cache_stats cs;
-        cache_get_stats(st.l1[i], &cs);
+        cache_core_get_stats(st.l1[i], &cs);
         out->trv_l1_miss_lines[i] = cs.miss_lines;
         out->l1.accesses += cs.accesses, out->l1.hits += cs.hits, out->l1.misses += cs.misses;
         out->l1.miss_lines += cs.miss_lines, out->l1.fills += cs.fills;
     }
-    cache_get_stats(st.l2, &out->l2);
-    cache_get_stats(st.prim, &out->prim);
+    cache_core_get_stats(st.l2, &out->l2);
+    cache_core_get_stats(st.prim, &out->prim);
     throughput(job, out);
     rc = 0;
 done:
@@ -351,9 +351,9 @@ done:
         free(slots[k].acc);
     free(slots);
     for (uint32_t i = 0; i < ntrv && i < FID_MAX_TRV; i++)
-        cache_destroy(st.l1[i]);
-    cache_destroy(st.l2);
-    cache_destroy(st.prim);
+        cache_core_destroy(st.l1[i]);
+    cache_core_destroy(st.l2);
+    cache_core_destroy(st.prim);
     free(st.open_row);
     rtsim_frame_free(&st.frame);
     return rc;

@@ -143,7 +143,7 @@ static const ks_desc_item accel_items[] = {
     {KS_DESC_STAT, "rays_in_flight_mean", "rays", "", "", "time-averaged rays in flight"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
-const ks_module_desc accel_top_desc = {"accel", "the frame's figures (top level)", accel_items, "machine"};
+const ks_module_desc accel_top_module_desc = {"accel", "the frame's figures (top level)", accel_items, "machine"};
 
 static double fifo_writes_fn(const ks_stats *reg, void *user)
 {
@@ -215,7 +215,7 @@ static energy_model *build_energy_model(accel_top *t, const rtcfg *cfg, char *er
         memsys_cache_params(cfg, caches[i], &cp);
         /* the array built: an index-addressed cache holds whole node words
          * (cache.h), a node-sized word the SRAM table may lack (energy_table.h) */
-        m.cache[i].size = (double)cache_capacity_bytes(&cp);
+        m.cache[i].size = (double)cache_core_capacity_bytes(&cp);
         m.cache[i].line = (double)cp.line_bytes;
         m.cache[i].ways = (double)cp.ways;
         m.cache[i].ports = cp.ports;
@@ -464,11 +464,11 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
         ist_set_events(t->ist, opts->events, opts->events_user);
 
     for (uint32_t i = 0; i < ntrv; i++) {
-        trv_set_probe(t->trv[i], cache_probe, memsys_node_l1(t->mem, (int)i));
-        t->trv[i]->core.present = cache_present;
+        trv_set_probe(t->trv[i], cache_core_probe, memsys_node_l1(t->mem, (int)i));
+        t->trv[i]->core.present = cache_core_present;
         ks_clocked_wake_on(t->trv[i]->proc, memsys_node_l1_filled(t->mem, (int)i));
     }
-    ist_set_probe(t->ist, cache_probe, memsys_prim(t->mem));
+    ist_set_probe(t->ist, cache_core_probe, memsys_prim(t->mem));
     ks_clocked_wake_on(t->ist->proc, memsys_prim_filled(t->mem));
     if (opts->exhaustive) {
         ks_clock_set_exhaustive(t->clk, 1);
@@ -478,7 +478,7 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
 
     /* statistics: the frame's figures first, then per unit, each from its
      * unit's description (an undeclared name fails here) */
-    const ks_module_desc *top = &accel_top_desc;
+    const ks_module_desc *top = &accel_top_module_desc;
     int rc = 0;
     rc |= ks_stat_decl_counter(t->stats, top, NULL, "cycles", &t->stat_cycles);
     rc |= ks_stat_decl_counter(t->stats, top, NULL, "run_failed", &t->stat_failed);
@@ -577,7 +577,7 @@ static void describe_units(accel_top *t, uint64_t now, char *err, size_t errlen,
     for (uint32_t i = 0; i < t->p.trv_count && n >= 0 && (size_t)n < errlen; i++) {
         if (!t->trv[i]->rays_in_unit)
             continue;
-        cache_describe(memsys_node_l1(t->mem, (int)i), (int64_t)now, line, sizeof line);
+        cache_core_describe(memsys_node_l1(t->mem, (int)i), (int64_t)now, line, sizeof line);
         n += snprintf(err + n, errlen - (size_t)n, "\n  trv%u: %llu rays held; node L1: %s", i,
                       (unsigned long long)t->trv[i]->rays_in_unit, line);
         for (uint32_t k = 0; k < t->p.trv.core.slots && (size_t)n < errlen; k++) {
@@ -592,12 +592,12 @@ static void describe_units(accel_top *t, uint64_t now, char *err, size_t errlen,
         }
     }
     if (t->ist->rays_in_unit && n >= 0 && (size_t)n < errlen) {
-        cache_describe(memsys_prim(t->mem), (int64_t)now, line, sizeof line);
+        cache_core_describe(memsys_prim(t->mem), (int64_t)now, line, sizeof line);
         n += snprintf(err + n, errlen - (size_t)n, "\n  ist: %llu rays held; primitive cache: %s",
                       (unsigned long long)t->ist->rays_in_unit, line);
     }
     if (n >= 0 && (size_t)n < errlen) {
-        cache_describe(memsys_node_l2(t->mem), (int64_t)now, line, sizeof line);
+        cache_core_describe(memsys_node_l2(t->mem), (int64_t)now, line, sizeof line);
         snprintf(err + n, errlen - (size_t)n, "\n  node L2: %s", line);
     }
 }
@@ -816,7 +816,7 @@ int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen)
 }
 
 static const ks_module_desc *const all_descs[] = {&trv_module_desc, &ist_module_desc, &sched_module_desc,
-                                                  &ks_fifo_module_desc, &accel_top_desc, &energy_desc};
+                                                  &ks_fifo_module_desc, &accel_top_module_desc, &energy_module_desc};
 
 const ks_module_desc *accel_module_desc(const char *name)
 {

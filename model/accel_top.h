@@ -74,7 +74,7 @@ void accel_top_print_summary(accel_top *t, FILE *out);
 int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen);
 
 /* The top level's own statistics (cycles, rays, mrps, ...). */
-extern const ks_module_desc accel_top_desc;
+extern const ks_module_desc accel_top_module_desc;
 
 /* Module description tables of every unit (for --help-module NAME). */
 const ks_module_desc *accel_module_desc(const char *name);

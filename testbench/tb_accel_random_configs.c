@@ -44,7 +44,7 @@
 #include "frame/frame.h"
 #include "model/accel_config.h"
 #include "model/accel_top.h"
-#include "model/mem/cache.h"
+#include "model/mem/cache_core.h"
 #include "model/mem/memsys_config.h"
 #include "testbench/tb.h"
 #include "tracer/builtin.h"
@@ -264,7 +264,7 @@ static void steer_config(drawn_config *c)
         snprintf(k, sizeof k, "%s.banks", secs[i]);
         double banks = set_num(c, k, 1);
         long long bytes = i == 0 ? 32 * (long long)set_num(c, "machine.branching", 4) : 48;
-        /* the lines of one node or triangle per ray that may wait on the cache */
+        /* the lines of one node or triangle per ray that may wait on the cache_core */
         double waiting = i == 0 ? set_num(c, "trv.slots", 32)
                        : i == 2 ? set_num(c, "ist.latency", 16) + set_num(c, "prim.hit_latency", 2) + 2
                                 : 1;

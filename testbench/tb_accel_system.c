@@ -637,7 +637,7 @@ static const char *const stress_tiny[] = {
     "fifo.mem_l2_miss=1", "fifo.mem_l2_fill=1", "fifo.mem_prim_miss=1", "fifo.mem_prim_fill=1", "fifo.mem_req=1",
     "fifo.mem_resp=1", "fifo.mem_dram_req=1", "fifo.mem_dram_resp=1", "memory.max_outstanding=1", NULL};
 /* One MSHR in every cache: a triangle over two missing lines used to loop
- * forever in the primitive cache (all-or-nothing probes; model/mem/cache.h) */
+ * forever in the primitive cache (all-or-nothing probes; model/mem/cache_core.h) */
 static const char *const stress_one_mshr[] = {"node_l1.mshrs=1", "node_l2.mshrs=1", "prim.mshrs=1", NULL};
 static const char *const stress_small[] = {
     "node_l1.mshrs=2", "node_l2.mshrs=2", "prim.mshrs=2", "prim.mshr_merge=2", "fifo.mem_req=2", "fifo.mem_resp=2",

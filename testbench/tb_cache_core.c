@@ -1,69 +1,69 @@
-/* tb_cache_core.c — the generic cache core (model/mem/cache.h): crafted hit, miss,
+/* tb_cache_core.c — the generic cache core (model/mem/cache_core.h): crafted hit, miss,
  * merge, eviction, MSHR exhaustion, port and bank sequences, and random
  * sequences against a simple reference model (an explicit MRU..LRU list per
  * set, a list of pending lines) that must agree on every result, every popped
  * miss, every line's presence and the statistics; the same for an
  * index-addressed cache of 96 B and 160 B node words (non-power-of-two sets). */
-#include "model/mem/cache.h"
+#include "model/mem/cache_core.h"
 #include "testbench/tb.h"
 
-static cache *mk_addressed(uint32_t size, uint32_t line, uint32_t ways, uint32_t banks, uint32_t ports,
+static cache_core *mk_addressed(uint32_t size, uint32_t line, uint32_t ways, uint32_t banks, uint32_t ports,
                           uint32_t mshrs, uint32_t merge, uint32_t index_addressed)
 {
     cache_params p = {size, line, ways, banks, ports, mshrs, merge, 1, index_addressed};
     char err[256];
-    cache *c = cache_create(&p, err, sizeof err);
+    cache_core *c = cache_core_create(&p, err, sizeof err);
     if (!c)
-        printf("cache_create: %s\n", err);
+        printf("cache_core_create: %s\n", err);
     return c;
 }
 
-static cache *mk(uint32_t size, uint32_t line, uint32_t ways, uint32_t banks, uint32_t ports, uint32_t mshrs,
+static cache_core *mk(uint32_t size, uint32_t line, uint32_t ways, uint32_t banks, uint32_t ports, uint32_t mshrs,
                  uint32_t merge)
 {
     return mk_addressed(size, line, ways, banks, ports, mshrs, merge, 0);
 }
 
 /* Pops the oldest downstream request and answers it at once. */
-static int serve_one(cache *c, int64_t now)
+static int serve_one(cache_core *c, int64_t now)
 {
     mem_req r;
-    if (!cache_pop_miss(c, &r))
+    if (!cache_core_pop_miss(c, &r))
         return -2;
     mem_resp resp = {r.addr, r.bytes, r.src, 0, r.tag};
-    return cache_fill(c, &resp, now);
+    return cache_core_fill(c, &resp, now);
 }
 
 static void test_hit_miss_merge(void)
 {
     tb_begin("hit_miss_merge_fill");
-    cache *c = mk(1024, 64, 2, 1, 1, 4, 4);
-    TB_EQ_INT(cache_access(c, 0x100, 64, 0), CACHE_MISS);
-    TB_EQ_INT(cache_access(c, 0x120, 8, 1), CACHE_MISS); /* same line: merges */
+    cache_core *c = mk(1024, 64, 2, 1, 1, 4, 4);
+    TB_EQ_INT(cache_core_access(c, 0x100, 64, 0), CACHE_MISS);
+    TB_EQ_INT(cache_core_access(c, 0x120, 8, 1), CACHE_MISS); /* same line: merges */
     cache_stats s;
-    cache_get_stats(c, &s);
+    cache_core_get_stats(c, &s);
     TB_EQ_INT(s.miss_lines, 1);
     TB_EQ_INT(s.merged, 1);
     TB_EQ_INT(s.misses, 2);
-    TB_EQ_INT(cache_mshrs_busy(c), 1);
-    TB_CHECK(cache_line_pending(c, 0x13f) && !cache_contains(c, 0x100), "pending, not present");
+    TB_EQ_INT(cache_core_mshrs_busy(c), 1);
+    TB_CHECK(cache_core_line_pending(c, 0x13f) && !cache_core_contains(c, 0x100), "pending, not present");
     mem_req r;
-    TB_CHECK(cache_pop_miss(c, &r), "a miss is queued");
+    TB_CHECK(cache_core_pop_miss(c, &r), "a miss is queued");
     TB_EQ_INT(r.addr, 0x100);
     TB_EQ_INT(r.bytes, 64);
-    TB_CHECK(!cache_pop_miss(c, &r), "only one request for the merged line");
-    TB_EQ_INT(cache_access(c, 0x100, 4, 2), CACHE_MISS); /* still pending before the fill */
+    TB_CHECK(!cache_core_pop_miss(c, &r), "only one request for the merged line");
+    TB_EQ_INT(cache_core_access(c, 0x100, 4, 2), CACHE_MISS); /* still pending before the fill */
     mem_resp bad = {0x140, 64, 0, 0, r.tag};
-    TB_EQ_INT(cache_fill(c, &bad, 3), -1);             /* wrong line for that MSHR */
+    TB_EQ_INT(cache_core_fill(c, &bad, 3), -1);             /* wrong line for that MSHR */
     mem_resp ok = {0x100, 64, 0, 0, r.tag};
-    TB_EQ_INT(cache_fill(c, &ok, 3), 0);               /* probes leave no waiters */
-    TB_EQ_INT(cache_access(c, 0x104, 16, 4), CACHE_HIT);
-    TB_EQ_INT(cache_mshrs_busy(c), 0);
-    cache_get_stats(c, &s);
+    TB_EQ_INT(cache_core_fill(c, &ok, 3), 0);               /* probes leave no waiters */
+    TB_EQ_INT(cache_core_access(c, 0x104, 16, 4), CACHE_HIT);
+    TB_EQ_INT(cache_core_mshrs_busy(c), 0);
+    cache_core_get_stats(c, &s);
     TB_EQ_INT(s.hits, 1);
     TB_EQ_INT(s.fills, 1);
     TB_EQ_INT(s.accesses, 4);
-    cache_destroy(c);
+    cache_core_destroy(c);
     tb_end();
 }
 
@@ -71,49 +71,49 @@ static void test_lru_eviction(void)
 {
     tb_begin("lru_eviction_order");
     /* 4-way, 4 sets of 64 B: lines 0, 4, 8, 12, 16 (x64 B) map to set 0 */
-    cache *c = mk(1024, 64, 4, 1, 1, 8, 1);
+    cache_core *c = mk(1024, 64, 4, 1, 1, 8, 1);
     int64_t t = 0;
     for (int i = 0; i < 4; i++) {
-        TB_EQ_INT(cache_access(c, (uint64_t)i * 256, 64, t++), CACHE_MISS);
+        TB_EQ_INT(cache_core_access(c, (uint64_t)i * 256, 64, t++), CACHE_MISS);
         TB_EQ_INT(serve_one(c, t), 0);
     }
-    TB_EQ_INT(cache_access(c, 0, 64, t++), CACHE_HIT);     /* line 0 becomes MRU; line 4 is LRU */
-    TB_EQ_INT(cache_access(c, 1024, 64, t++), CACHE_MISS); /* line 16 */
+    TB_EQ_INT(cache_core_access(c, 0, 64, t++), CACHE_HIT);     /* line 0 becomes MRU; line 4 is LRU */
+    TB_EQ_INT(cache_core_access(c, 1024, 64, t++), CACHE_MISS); /* line 16 */
     TB_EQ_INT(serve_one(c, t), 0);
-    TB_CHECK(cache_contains(c, 0), "MRU line kept");
-    TB_CHECK(!cache_contains(c, 256), "LRU line evicted");
-    TB_CHECK(cache_contains(c, 512) && cache_contains(c, 768) && cache_contains(c, 1024), "others kept");
-    TB_CHECK(cache_contains(c, 0) && !cache_contains(c, 64), "other sets untouched");
+    TB_CHECK(cache_core_contains(c, 0), "MRU line kept");
+    TB_CHECK(!cache_core_contains(c, 256), "LRU line evicted");
+    TB_CHECK(cache_core_contains(c, 512) && cache_core_contains(c, 768) && cache_core_contains(c, 1024), "others kept");
+    TB_CHECK(cache_core_contains(c, 0) && !cache_core_contains(c, 64), "other sets untouched");
     cache_stats s;
-    cache_get_stats(c, &s);
+    cache_core_get_stats(c, &s);
     TB_EQ_INT(s.evictions, 1);
     TB_EQ_INT(s.fills, 5);
-    cache_destroy(c);
+    cache_core_destroy(c);
     tb_end();
 }
 
 static void test_mshr_exhaustion(void)
 {
     tb_begin("mshr_exhaustion_blocks_then_recovers");
-    cache *c = mk(1024, 64, 4, 1, 4, 2, 2);
-    TB_EQ_INT(cache_access(c, 0x000, 4, 0), CACHE_MISS);
-    TB_EQ_INT(cache_access(c, 0x040, 4, 0), CACHE_MISS);
-    TB_EQ_INT(cache_access(c, 0x080, 4, 0), CACHE_BLOCKED);   /* no MSHR left */
-    TB_EQ_INT(cache_access(c, 0x044, 4, 0), CACHE_MISS);      /* merging still works */
-    TB_CHECK(!cache_line_pending(c, 0x080), "a blocked access changes nothing");
+    cache_core *c = mk(1024, 64, 4, 1, 4, 2, 2);
+    TB_EQ_INT(cache_core_access(c, 0x000, 4, 0), CACHE_MISS);
+    TB_EQ_INT(cache_core_access(c, 0x040, 4, 0), CACHE_MISS);
+    TB_EQ_INT(cache_core_access(c, 0x080, 4, 0), CACHE_BLOCKED);   /* no MSHR left */
+    TB_EQ_INT(cache_core_access(c, 0x044, 4, 0), CACHE_MISS);      /* merging still works */
+    TB_CHECK(!cache_core_line_pending(c, 0x080), "a blocked access changes nothing");
     /* an access needing two new MSHRs when one is free: blocked, nothing allocated */
     TB_EQ_INT(serve_one(c, 1), 0);
-    TB_EQ_INT(cache_access(c, 0x0b0, 48, 2), CACHE_BLOCKED);  /* lines 0x80 and 0xc0 */
-    TB_EQ_INT(cache_mshrs_busy(c), 1);
-    TB_EQ_INT(cache_access(c, 0x080, 4, 2), CACHE_MISS);
+    TB_EQ_INT(cache_core_access(c, 0x0b0, 48, 2), CACHE_BLOCKED);  /* lines 0x80 and 0xc0 */
+    TB_EQ_INT(cache_core_mshrs_busy(c), 1);
+    TB_EQ_INT(cache_core_access(c, 0x080, 4, 2), CACHE_MISS);
     cache_stats s;
-    cache_get_stats(c, &s);
+    cache_core_get_stats(c, &s);
     TB_EQ_INT(s.blocked_mshr, 2);
     TB_EQ_INT(s.miss_lines, 3);
     char d[200];
-    cache_describe(c, 10, d, sizeof d);
+    cache_core_describe(c, 10, d, sizeof d);
     TB_CHECK(strstr(d, "mshrs 2/2 busy (2 unsent)") && strstr(d, "oldest miss 0x40 waiting 10 cycles"), "describe: %s", d);
-    cache_destroy(c);
+    cache_core_destroy(c);
     tb_end();
 }
 
@@ -124,89 +124,89 @@ static void test_mshr_exhaustion(void)
 static void test_partial_probe_one_mshr(void)
 {
     tb_begin("one_mshr_two_line_probe_progresses_line_by_line");
-    cache *c = mk(1024, 64, 4, 2, 1, 1, 4);
-    TB_EQ_INT(cache_access(c, 0x030, 48, 0), CACHE_MISS); /* lines 0x00 and 0x40, two banks */
-    TB_CHECK(cache_line_pending(c, 0x000) && !cache_line_pending(c, 0x040), "first line requested only");
-    TB_EQ_INT(cache_access(c, 0x030, 48, 1), CACHE_BLOCKED); /* its one MSHR is busy */
+    cache_core *c = mk(1024, 64, 4, 2, 1, 1, 4);
+    TB_EQ_INT(cache_core_access(c, 0x030, 48, 0), CACHE_MISS); /* lines 0x00 and 0x40, two banks */
+    TB_CHECK(cache_core_line_pending(c, 0x000) && !cache_core_line_pending(c, 0x040), "first line requested only");
+    TB_EQ_INT(cache_core_access(c, 0x030, 48, 1), CACHE_BLOCKED); /* its one MSHR is busy */
     TB_EQ_INT(serve_one(c, 2), 0);
-    TB_EQ_INT(cache_access(c, 0x030, 48, 3), CACHE_MISS);   /* now the second line */
-    TB_CHECK(cache_contains(c, 0x000) && cache_line_pending(c, 0x040), "second line requested");
+    TB_EQ_INT(cache_core_access(c, 0x030, 48, 3), CACHE_MISS);   /* now the second line */
+    TB_CHECK(cache_core_contains(c, 0x000) && cache_core_line_pending(c, 0x040), "second line requested");
     TB_EQ_INT(serve_one(c, 4), 0);
-    TB_EQ_INT(cache_access(c, 0x030, 48, 5), CACHE_HIT);
+    TB_EQ_INT(cache_core_access(c, 0x030, 48, 5), CACHE_HIT);
     /* requests (waiters need all their lines at once) stay all-or-nothing */
     mem_req q = {.addr = 0x130, .bytes = 48, .tag = 7};
-    TB_EQ_INT(cache_request(c, &q, 6), CACHE_BLOCKED);
-    TB_EQ_INT(cache_mshrs_busy(c), 0);
+    TB_EQ_INT(cache_core_request(c, &q, 6), CACHE_BLOCKED);
+    TB_EQ_INT(cache_core_mshrs_busy(c), 0);
     cache_stats s;
-    cache_get_stats(c, &s);
+    cache_core_get_stats(c, &s);
     TB_EQ_INT(s.miss_lines, 2);
     TB_EQ_INT(s.blocked_mshr, 2);
-    cache_destroy(c);
+    cache_core_destroy(c);
     tb_end();
 }
 
 static void test_request_waiters(void)
 {
     tb_begin("request_mode_waiters_and_merge_limit");
-    cache *c = mk(4096, 128, 4, 1, 8, 4, 2);
+    cache_core *c = mk(4096, 128, 4, 1, 8, 4, 2);
     mem_req a = {0x200, 64, 3, 0, 0, 77}, b = {0x240, 64, 1, 0, 0, 78}, x = {0x200, 64, 2, 0, 0, 79};
-    TB_EQ_INT(cache_request(c, &a, 0), CACHE_MISS);
-    TB_EQ_INT(cache_request(c, &b, 0), CACHE_MISS);   /* same 128 B line */
-    TB_EQ_INT(cache_request(c, &x, 0), CACHE_BLOCKED); /* mshr_merge = 2 */
+    TB_EQ_INT(cache_core_request(c, &a, 0), CACHE_MISS);
+    TB_EQ_INT(cache_core_request(c, &b, 0), CACHE_MISS);   /* same 128 B line */
+    TB_EQ_INT(cache_core_request(c, &x, 0), CACHE_BLOCKED); /* mshr_merge = 2 */
     cache_stats s;
-    cache_get_stats(c, &s);
+    cache_core_get_stats(c, &s);
     TB_EQ_INT(s.blocked_merge, 1);
-    TB_EQ_INT(cache_ready_count(c), 0);
+    TB_EQ_INT(cache_core_ready_count(c), 0);
     TB_EQ_INT(serve_one(c, 5), 2);
     mem_req out;
-    TB_CHECK(cache_pop_ready(c, &out) && out.tag == 77 && out.src == 3 && out.addr == 0x200, "first waiter back");
-    TB_CHECK(cache_pop_ready(c, &out) && out.tag == 78 && out.src == 1, "second waiter back");
-    TB_CHECK(!cache_pop_ready(c, &out), "no more");
-    TB_EQ_INT(cache_request(c, &x, 6), CACHE_HIT);
+    TB_CHECK(cache_core_pop_ready(c, &out) && out.tag == 77 && out.src == 3 && out.addr == 0x200, "first waiter back");
+    TB_CHECK(cache_core_pop_ready(c, &out) && out.tag == 78 && out.src == 1, "second waiter back");
+    TB_CHECK(!cache_core_pop_ready(c, &out), "no more");
+    TB_EQ_INT(cache_core_request(c, &x, 6), CACHE_HIT);
     /* a request over two lines, one present: waits for the other only */
     mem_req y = {0x260, 64, 0, 0, 0, 90};             /* lines 0x200 (present) and 0x280 */
-    TB_EQ_INT(cache_request(c, &y, 7), CACHE_MISS);
+    TB_EQ_INT(cache_core_request(c, &y, 7), CACHE_MISS);
     TB_EQ_INT(serve_one(c, 8), 1);
-    TB_CHECK(cache_pop_ready(c, &out) && out.tag == 90, "two-line waiter released");
+    TB_CHECK(cache_core_pop_ready(c, &out) && out.tag == 90, "two-line waiter released");
     /* a waiter over two missing lines is released by the second fill only */
     mem_req z = {0x3c0, 128, 0, 0, 0, 91};
-    TB_EQ_INT(cache_request(c, &z, 9), CACHE_MISS);
-    TB_EQ_INT(cache_misses_queued(c), 2);
+    TB_EQ_INT(cache_core_request(c, &z, 9), CACHE_MISS);
+    TB_EQ_INT(cache_core_misses_queued(c), 2);
     TB_EQ_INT(serve_one(c, 10), 0);
     TB_EQ_INT(serve_one(c, 11), 1);
-    TB_CHECK(cache_pop_ready(c, &out) && out.tag == 91, "released after both");
-    cache_destroy(c);
+    TB_CHECK(cache_core_pop_ready(c, &out) && out.tag == 91, "released after both");
+    cache_core_destroy(c);
     tb_end();
 }
 
 static void test_ports(void)
 {
     tb_begin("ports_and_banks_per_cycle");
-    cache *c = mk(1024, 64, 4, 1, 1, 8, 8);
-    TB_EQ_INT(cache_access(c, 0x000, 4, 0), CACHE_MISS);
-    TB_EQ_INT(cache_access(c, 0x040, 4, 0), CACHE_BLOCKED);   /* one port */
-    TB_EQ_INT(cache_access(c, 0x040, 4, 1), CACHE_MISS);
-    cache_destroy(c);
+    cache_core *c = mk(1024, 64, 4, 1, 1, 8, 8);
+    TB_EQ_INT(cache_core_access(c, 0x000, 4, 0), CACHE_MISS);
+    TB_EQ_INT(cache_core_access(c, 0x040, 4, 0), CACHE_BLOCKED);   /* one port */
+    TB_EQ_INT(cache_core_access(c, 0x040, 4, 1), CACHE_MISS);
+    cache_core_destroy(c);
     /* two ports, two banks: bank 0 takes two line reads per cycle */
     c = mk(1024, 64, 4, 2, 2, 8, 8);
-    TB_EQ_INT(cache_access(c, 0x000, 160, 0), CACHE_MISS);    /* lines 0,1,2: bank 0 twice */
-    TB_EQ_INT(cache_access(c, 0x100, 4, 0), CACHE_BLOCKED);   /* line 4: bank 0 full */
-    TB_EQ_INT(cache_access(c, 0x0c0, 4, 0), CACHE_MISS);      /* line 3: bank 1 has a port left */
-    TB_EQ_INT(cache_access(c, 0x100, 4, 1), CACHE_MISS);
+    TB_EQ_INT(cache_core_access(c, 0x000, 160, 0), CACHE_MISS);    /* lines 0,1,2: bank 0 twice */
+    TB_EQ_INT(cache_core_access(c, 0x100, 4, 0), CACHE_BLOCKED);   /* line 4: bank 0 full */
+    TB_EQ_INT(cache_core_access(c, 0x0c0, 4, 0), CACHE_MISS);      /* line 3: bank 1 has a port left */
+    TB_EQ_INT(cache_core_access(c, 0x100, 4, 1), CACHE_MISS);
     cache_stats s0;
-    cache_get_stats(c, &s0);
+    cache_core_get_stats(c, &s0);
     TB_EQ_INT(s0.blocked_bank, 1);
-    cache_destroy(c);
+    cache_core_destroy(c);
     c = mk(1024, 64, 4, 2, 2, 8, 8);
-    TB_EQ_INT(cache_access(c, 0x000, 4, 0), CACHE_MISS);
-    TB_EQ_INT(cache_access(c, 0x040, 4, 0), CACHE_MISS);      /* other bank */
-    TB_EQ_INT(cache_access(c, 0x080, 4, 0), CACHE_BLOCKED);   /* third access: 2 ports */
-    TB_EQ_INT(cache_access(c, 0x080, 4, 1), CACHE_MISS);
+    TB_EQ_INT(cache_core_access(c, 0x000, 4, 0), CACHE_MISS);
+    TB_EQ_INT(cache_core_access(c, 0x040, 4, 0), CACHE_MISS);      /* other bank */
+    TB_EQ_INT(cache_core_access(c, 0x080, 4, 0), CACHE_BLOCKED);   /* third access: 2 ports */
+    TB_EQ_INT(cache_core_access(c, 0x080, 4, 1), CACHE_MISS);
     cache_stats s;
-    cache_get_stats(c, &s);
+    cache_core_get_stats(c, &s);
     TB_EQ_INT(s.blocked_port, 1);
     TB_EQ_INT(s.blocked_bank, 0);
-    cache_destroy(c);
+    cache_core_destroy(c);
     tb_end();
 }
 
@@ -216,12 +216,12 @@ static void test_banked_unaligned(void)
 {
     tb_begin("two_bank_unaligned_48B_every_cycle");
     const int ntri = 64;
-    cache *two = mk(131072, 64, 4, 2, 1, 32, 8), *one = mk(131072, 64, 4, 1, 1, 32, 8);
-    cache *cs[2] = {two, one};
+    cache_core *two = mk(131072, 64, 4, 2, 1, 32, 8), *one = mk(131072, 64, 4, 1, 1, 32, 8);
+    cache_core *cs[2] = {two, one};
     for (int k = 0; k < 2; k++) { /* warm up: every line present */
         int64_t t = 0;
         for (int i = 0; i < ntri; i++) {
-            while (cache_access(cs[k], 0x1000 + (uint64_t)i * 48, 48, t) == CACHE_BLOCKED)
+            while (cache_core_access(cs[k], 0x1000 + (uint64_t)i * 48, 48, t) == CACHE_BLOCKED)
                 t++;
             t++;
             while (serve_one(cs[k], t) >= 0) {
@@ -233,32 +233,32 @@ static void test_banked_unaligned(void)
     for (int i = 0; i < ntri; i++, t++) {
         uint64_t a = 0x1000 + (uint64_t)i * 48;
         spans += (a >> 6) != ((a + 47) >> 6);
-        cache_result r = cache_access(two, a, 48, t);
+        cache_result r = cache_core_access(two, a, 48, t);
         blocked2 += r == CACHE_BLOCKED;
         TB_CHECK(r == CACHE_HIT || r == CACHE_BLOCKED, "warm cache");
-        TB_EQ_INT(cache_last_access_cycles(two), 1);
+        TB_EQ_INT(cache_core_last_access_cycles(two), 1);
     }
     for (int i = 0; i < ntri;) {
         uint64_t a = 0x1000 + (uint64_t)i * 48;
-        cache_result r = cache_access(one, a, 48, t++);
+        cache_result r = cache_core_access(one, a, 48, t++);
         if (r == CACHE_BLOCKED) {
             blocked1++;
             continue;
         }
         TB_EQ_INT(r, CACHE_HIT);
-        TB_EQ_INT(cache_last_access_cycles(one), ((a >> 6) != ((a + 47) >> 6)) ? 2 : 1);
+        TB_EQ_INT(cache_core_last_access_cycles(one), ((a >> 6) != ((a + 47) >> 6)) ? 2 : 1);
         i++;
     }
     TB_EQ_INT(blocked2, 0);
     TB_CHECK(spans == ntri / 2, "half the triangles straddle two lines (%d)", spans);
     TB_EQ_INT(blocked1, spans);   /* the one-bank cache loses a cycle per straddling read */
     cache_stats s;
-    cache_get_stats(one, &s);
+    cache_core_get_stats(one, &s);
     TB_CHECK(s.bank_conflicts >= (uint64_t)spans, "bank conflicts counted");
-    cache_get_stats(two, &s);
+    cache_core_get_stats(two, &s);
     TB_EQ_INT(s.blocked_bank, 0);
-    cache_destroy(two);
-    cache_destroy(one);
+    cache_core_destroy(two);
+    cache_core_destroy(one);
     tb_end();
 }
 
@@ -267,15 +267,15 @@ static void test_create_errors(void)
     tb_begin("create_rejects_impossible_parameters");
     char err[256];
     cache_params p = {16384, 128, 3, 1, 1, 8, 4, 1, 0};
-    TB_CHECK(cache_create(&p, err, sizeof err) == NULL && strstr(err, "must be a power of two"), "3 ways: %s", err);
+    TB_CHECK(cache_core_create(&p, err, sizeof err) == NULL && strstr(err, "must be a power of two"), "3 ways: %s", err);
     p.ways = 0;
-    TB_CHECK(cache_create(&p, err, sizeof err) == NULL && strstr(err, "ways"), "0 ways: %s", err);
+    TB_CHECK(cache_core_create(&p, err, sizeof err) == NULL && strstr(err, "ways"), "0 ways: %s", err);
     p.ways = 4;
     p.line_bytes = 96;
-    TB_CHECK(cache_create(&p, err, sizeof err) == NULL && strstr(err, "powers of two"), "96 B line: %s", err);
+    TB_CHECK(cache_core_create(&p, err, sizeof err) == NULL && strstr(err, "powers of two"), "96 B line: %s", err);
     p.line_bytes = 128;
     p.size_bytes = 256;
-    TB_CHECK(cache_create(&p, err, sizeof err) == NULL, "smaller than one set");
+    TB_CHECK(cache_core_create(&p, err, sizeof err) == NULL, "smaller than one set");
     tb_end();
 }
 
@@ -285,49 +285,49 @@ static void test_create_errors(void)
 static void test_index_addressed_96(void)
 {
     tb_begin("index_addressed_96B_words_hits_misses_sets");
-    cache *c = mk_addressed(1024, 96, 2, 1, 1, 4, 4, 1);
+    cache_core *c = mk_addressed(1024, 96, 2, 1, 1, 4, 4, 1);
     TB_CHECK(c != NULL, "created");
     if (!c) {
         tb_end();
         return;
     }
-    const cache_params *p = cache_get_params(c);
-    TB_EQ_INT(cache_capacity_bytes(p), 960);
+    const cache_params *p = cache_core_get_params(c);
+    TB_EQ_INT(cache_core_capacity_bytes(p), 960);
     int64_t t = 0;
     /* node 1 = bytes 96..191: one word, not two 64 B lines or a straddle */
-    TB_EQ_INT(cache_access(c, 96, 96, t++), CACHE_MISS);
+    TB_EQ_INT(cache_core_access(c, 96, 96, t++), CACHE_MISS);
     mem_req r;
-    TB_CHECK(cache_pop_miss(c, &r), "one request");
+    TB_CHECK(cache_core_pop_miss(c, &r), "one request");
     TB_EQ_INT(r.addr, 96);
     TB_EQ_INT(r.bytes, 96);
-    TB_CHECK(!cache_pop_miss(c, &r), "only one request for one node");
-    TB_CHECK(cache_line_pending(c, 191) && !cache_line_pending(c, 192), "pending word is bytes 96..191");
+    TB_CHECK(!cache_core_pop_miss(c, &r), "only one request for one node");
+    TB_CHECK(cache_core_line_pending(c, 191) && !cache_core_line_pending(c, 192), "pending word is bytes 96..191");
     mem_resp f = {96, 96, 0, 0, 0};
-    TB_EQ_INT(cache_fill(c, &f, t), 0);
-    TB_CHECK(cache_contains(c, 96) && cache_contains(c, 191) && !cache_contains(c, 95) && !cache_contains(c, 192),
+    TB_EQ_INT(cache_core_fill(c, &f, t), 0);
+    TB_CHECK(cache_core_contains(c, 96) && cache_core_contains(c, 191) && !cache_core_contains(c, 95) && !cache_core_contains(c, 192),
              "word 1 present exactly");
-    TB_EQ_INT(cache_access(c, 96, 96, t++), CACHE_HIT);
-    TB_EQ_INT(cache_last_access_cycles(c), 1);
-    TB_EQ_INT(cache_access(c, 100, 8, t++), CACHE_HIT); /* any part of the node */
+    TB_EQ_INT(cache_core_access(c, 96, 96, t++), CACHE_HIT);
+    TB_EQ_INT(cache_core_last_access_cycles(c), 1);
+    TB_EQ_INT(cache_core_access(c, 100, 8, t++), CACHE_HIT); /* any part of the node */
     /* words 0, 5, 10 share set 0 (2 ways): 0 and 5 fill it, 0 is touched,
      * 10 evicts 5 */
-    TB_EQ_INT(cache_access(c, 0, 96, t++), CACHE_MISS);
+    TB_EQ_INT(cache_core_access(c, 0, 96, t++), CACHE_MISS);
     TB_EQ_INT(serve_one(c, t), 0);
-    TB_EQ_INT(cache_access(c, 5 * 96, 96, t++), CACHE_MISS);
+    TB_EQ_INT(cache_core_access(c, 5 * 96, 96, t++), CACHE_MISS);
     TB_EQ_INT(serve_one(c, t), 0);
-    TB_EQ_INT(cache_access(c, 0, 96, t++), CACHE_HIT);
-    TB_EQ_INT(cache_access(c, 10 * 96, 96, t++), CACHE_MISS);
-    TB_CHECK(cache_pop_miss(c, &r) && r.addr == 960 && r.bytes == 96, "word 10 requested at 960: 0x%llx+%u",
+    TB_EQ_INT(cache_core_access(c, 0, 96, t++), CACHE_HIT);
+    TB_EQ_INT(cache_core_access(c, 10 * 96, 96, t++), CACHE_MISS);
+    TB_CHECK(cache_core_pop_miss(c, &r) && r.addr == 960 && r.bytes == 96, "word 10 requested at 960: 0x%llx+%u",
              (unsigned long long)r.addr, r.bytes);
     mem_resp f10 = {960, 96, 0, 0, r.tag};
-    TB_EQ_INT(cache_fill(c, &f10, t), 0);
-    TB_CHECK(cache_contains(c, 0) && !cache_contains(c, 480) && cache_contains(c, 960), "LRU word 5 evicted");
-    TB_CHECK(cache_contains(c, 96), "word 1 (set 1) untouched");
+    TB_EQ_INT(cache_core_fill(c, &f10, t), 0);
+    TB_CHECK(cache_core_contains(c, 0) && !cache_core_contains(c, 480) && cache_core_contains(c, 960), "LRU word 5 evicted");
+    TB_CHECK(cache_core_contains(c, 96), "word 1 (set 1) untouched");
     /* an access across two words (bytes 150..249: words 1 and 2) touches both */
-    TB_EQ_INT(cache_access(c, 150, 100, t++), CACHE_MISS);
-    TB_EQ_INT(cache_mshrs_busy(c), 1); /* word 2 only */
+    TB_EQ_INT(cache_core_access(c, 150, 100, t++), CACHE_MISS);
+    TB_EQ_INT(cache_core_mshrs_busy(c), 1); /* word 2 only */
     cache_stats s;
-    cache_get_stats(c, &s);
+    cache_core_get_stats(c, &s);
     TB_EQ_INT(s.accesses, 8);
     TB_EQ_INT(s.hits, 3);
     TB_EQ_INT(s.misses, 5);
@@ -335,7 +335,7 @@ static void test_index_addressed_96(void)
     TB_EQ_INT(s.fills, 4);
     TB_EQ_INT(s.evictions, 1);
     TB_EQ_INT(s.bytes_filled, 4 * 96);
-    cache_destroy(c);
+    cache_core_destroy(c);
     tb_end();
 }
 
@@ -344,17 +344,17 @@ static void test_index_create_errors(void)
     tb_begin("index_addressed_create_rejects_impossible_parameters");
     char err[256];
     cache_params p = {16384, 100, 4, 1, 1, 8, 4, 1, 1};
-    TB_CHECK(cache_create(&p, err, sizeof err) == NULL && strstr(err, "multiple of 16"), "100 B word: %s", err);
+    TB_CHECK(cache_core_create(&p, err, sizeof err) == NULL && strstr(err, "multiple of 16"), "100 B word: %s", err);
     p.line_bytes = 96;
     p.size_bytes = 128; /* less than one set of 2 x 96 B */
     p.ways = 2;
-    TB_CHECK(cache_create(&p, err, sizeof err) == NULL && strstr(err, ">= 1"), "smaller than a set: %s", err);
+    TB_CHECK(cache_core_create(&p, err, sizeof err) == NULL && strstr(err, ">= 1"), "smaller than a set: %s", err);
     p.size_bytes = 16384;
     p.ways = 4;
-    cache *c = cache_create(&p, err, sizeof err);
+    cache_core *c = cache_core_create(&p, err, sizeof err);
     TB_CHECK(c != NULL, "16 KB of 96 B words: %s", c ? "" : err);
-    TB_EQ_INT(cache_capacity_bytes(&p), 42 * 4 * 96); /* floor(16384 / 384) = 42 sets */
-    cache_destroy(c);
+    TB_EQ_INT(cache_core_capacity_bytes(&p), 42 * 4 * 96); /* floor(16384 / 384) = 42 sets */
+    cache_core_destroy(c);
     tb_end();
 }
 
@@ -559,7 +559,7 @@ static void run_random_addressed(uint32_t size, uint32_t line, uint32_t ways, ui
              index_addressed ? "index_" : "", requests ? "requests" : "probes", size, line, ways, banks, ports, mshrs,
              merge);
     tb_begin(name);
-    cache *c = mk_addressed(size, line, ways, banks, ports, mshrs, merge, index_addressed);
+    cache_core *c = mk_addressed(size, line, ways, banks, ports, mshrs, merge, index_addressed);
     static ref r;
     memset(&r, 0, sizeof r);
     r.merge = merge;
@@ -584,20 +584,20 @@ static void run_random_addressed(uint32_t size, uint32_t line, uint32_t ways, ui
             cache_result got, want;
             if (requests) {
                 mem_req q = {addr, bytes, (uint16_t)(next_tag & 7), 0, 0, next_tag};
-                got = cache_request(c, &q, now);
+                got = cache_core_request(c, &q, now);
                 want = ref_access(&r, addr, bytes, now, &next_tag);
                 next_tag++;
             } else {
-                got = cache_access(c, addr, bytes, now);
+                got = cache_core_access(c, addr, bytes, now);
                 want = ref_access(&r, addr, bytes, now, NULL);
             }
             TB_CHECK(got == want, "op %d access 0x%llx+%u at %lld: %d vs reference %d", op, (unsigned long long)addr,
                      bytes, (long long)now, got, want);
             if (got == CACHE_HIT || got == CACHE_MISS)
-                TB_EQ_INT(cache_last_access_cycles(c), r.last_cycles);
+                TB_EQ_INT(cache_core_last_access_cycles(c), r.last_cycles);
         } else if (kind < 8) {
             mem_req q;
-            bool have = cache_pop_miss(c, &q);
+            bool have = cache_core_pop_miss(c, &q);
             TB_CHECK(have == (r.npend > 0), "op %d pop_miss %d vs %d pending", op, have, r.npend);
             if (have && r.npend) {
                 TB_CHECK(q.addr == r.pend[0] * line && q.bytes == line, "op %d miss order: 0x%llx vs 0x%llx", op,
@@ -612,23 +612,23 @@ static void run_random_addressed(uint32_t size, uint32_t line, uint32_t ways, ui
             uint64_t rel[256];
             int nrel = 0;
             ref_fill(&r, sent[k].addr / line, rel, &nrel);
-            TB_EQ_INT(cache_fill(c, &resp, now), nrel);
+            TB_EQ_INT(cache_core_fill(c, &resp, now), nrel);
             mem_req q;
-            for (int i = 0; i < nrel && cache_pop_ready(c, &q); i++)
+            for (int i = 0; i < nrel && cache_core_pop_ready(c, &q); i++)
                 TB_CHECK(q.tag == rel[i] && q.src == (rel[i] & 7), "op %d released tag %llu, reference %llu", op,
                          (unsigned long long)q.tag, (unsigned long long)rel[i]);
-            TB_CHECK(!cache_pop_ready(c, &q), "op %d: extra ready request", op);
+            TB_CHECK(!cache_core_pop_ready(c, &q), "op %d: extra ready request", op);
             sent[k] = sent[--nsent];
         }
         if (op % 64 == 0)
             for (uint32_t l = 0; l < pool_lines; l++)
-                if (cache_contains(c, (uint64_t)l * line) != (ref_find(&r, l) >= 0)) {
+                if (cache_core_contains(c, (uint64_t)l * line) != (ref_find(&r, l) >= 0)) {
                     TB_CHECK(false, "op %d: line %u presence differs", op, l);
                     break;
                 }
     }
     cache_stats s;
-    cache_get_stats(c, &s);
+    cache_core_get_stats(c, &s);
     TB_EQ_INT(s.accesses, r.st.accesses);
     TB_EQ_INT(s.hits, r.st.hits);
     TB_EQ_INT(s.misses, r.st.misses);
@@ -646,7 +646,7 @@ static void run_random_addressed(uint32_t size, uint32_t line, uint32_t ways, ui
              "sequence exercised hits %llu evictions %llu merges %llu blocks %llu", (unsigned long long)s.hits,
              (unsigned long long)s.evictions, (unsigned long long)s.merged,
              (unsigned long long)(s.blocked_mshr + s.blocked_bank));
-    cache_destroy(c);
+    cache_core_destroy(c);
     tb_end();
 }
 

@@ -1,4 +1,4 @@
-/* tb_cache_memsys.c — the memory side as kernel modules (cache_unit,
+/* tb_cache_memsys.c — the memory side as kernel modules (cache.c,
  * mem_arbiter, fixed_mem, memsys_build): fills travel L1 -> L2 -> memory and
  * back with the configured latencies, L2 hits are faster than memory, misses
  * of several L1s to one line merge at the L2, the arbiter is fair, the fixed
@@ -29,7 +29,7 @@ typedef struct stream {
 } stream;
 
 typedef struct requester {
-    cache *c;
+    cache_core *c;
     ks_clocked *proc;
     uint32_t bytes;
     int ns, rr;
@@ -65,7 +65,7 @@ static int req_step(void *user, uint64_t cycle)
         }
         r->rr = (r->rr + k + 1) % r->ns;
         r->probes++;
-        if (cache_access(r->c, s->addr[s->next], r->bytes, (int64_t)cycle) == CACHE_HIT)
+        if (cache_core_access(r->c, s->addr[s->next], r->bytes, (int64_t)cycle) == CACHE_HIT)
             s->hit_cycle[s->next++] = cycle;
         return 1;
     }
@@ -107,7 +107,7 @@ static bool bench_init(bench *b, const char *preset, const char *const *sets, in
     return true;
 }
 
-static requester *add_requester(bench *b, cache *c, uint32_t bytes)
+static requester *add_requester(bench *b, cache_core *c, uint32_t bytes)
 {
     requester *r = &b->req[b->nreq++];
     r->c = c;
@@ -344,17 +344,17 @@ static void test_build_errors_and_tables(void)
              "bad DRAM spec: %s", err);
     ks_sim_destroy(sim);
     rtcfg_destroy(cfg);
-    const ks_module_desc *d[] = {&cache_unit_desc, &mem_arbiter_desc, &fixed_mem_desc, &mem_dram_adapter_desc,
-                                 &dram_port_desc};
-    TB_CHECK(memsys_module_desc("node_l1") == &cache_unit_desc && memsys_module_desc("prim") == &cache_unit_desc &&
-                 memsys_module_desc("l2_arbiter") == &mem_arbiter_desc && memsys_module_desc("fixed_mem") == &fixed_mem_desc &&
-                 memsys_module_desc("dram") == &dram_port_desc && memsys_module_desc("trv") == NULL,
+    const ks_module_desc *d[] = {&cache_module_desc, &mem_arbiter_module_desc, &fixed_mem_module_desc, &mem_dram_adapter_module_desc,
+                                 &dram_port_module_desc};
+    TB_CHECK(memsys_module_desc("node_l1") == &cache_module_desc && memsys_module_desc("prim") == &cache_module_desc &&
+                 memsys_module_desc("l2_arbiter") == &mem_arbiter_module_desc && memsys_module_desc("fixed_mem") == &fixed_mem_module_desc &&
+                 memsys_module_desc("dram") == &dram_port_module_desc && memsys_module_desc("trv") == NULL,
              "module lookup by name and instance");
     for (int i = 0; i < 5; i++) {
         TB_CHECK(ks_module_desc_check(d[i], err, sizeof err) == 0, "%s", err);
         /* parameters: configuration keys (the arbiter's requester count is
          * set by the assembly, so it is a row of its own) */
-        TB_CHECK((d[i] == &mem_arbiter_desc ? ks_module_desc_count(d[i], KS_DESC_PARAM) > 0
+        TB_CHECK((d[i] == &mem_arbiter_module_desc ? ks_module_desc_count(d[i], KS_DESC_PARAM) > 0
                                             : d[i]->config_sections && ks_module_desc_count(d[i], KS_DESC_PARAM) == 0) &&
                      ks_module_desc_count(d[i], KS_DESC_PORT) > 0 && ks_module_desc_count(d[i], KS_DESC_STAT) > 0,
                  "%s lacks a section", d[i]->name);
@@ -364,10 +364,10 @@ static void test_build_errors_and_tables(void)
     sim = ks_sim_create();
     clk = ks_clock_create(sim, "clk", 0);
     cache_params p = {1024, 64, 4, 1, 1, 4, 4, 1, 0};
-    cache_unit *u = cache_unit_create(sim, clk, "c", &p, err, sizeof err);
-    TB_EQ_INT(cache_unit_register_stats(u, reg, "c"), 0);
-    TB_EQ_INT(ks_stats_count(reg), ks_module_desc_count(&cache_unit_desc, KS_DESC_STAT));
-    cache_unit_destroy(u);
+    cache_unit *u = cache_create(sim, clk, "c", &p, err, sizeof err);
+    TB_EQ_INT(cache_register(u, reg, "c"), 0);
+    TB_EQ_INT(ks_stats_count(reg), ks_module_desc_count(&cache_module_desc, KS_DESC_STAT));
+    cache_destroy(u);
     ks_sim_destroy(sim);
     ks_stats_destroy(reg);
     tb_end();

@@ -535,13 +535,13 @@ static void stats_and_desc(void)
 {
     tb_begin("dram_port_stats_described");
     char err[256];
-    TB_CHECK(ks_module_desc_check(&dram_port_desc, err, sizeof err) == 0, "%s", err);
-    TB_CHECK(ks_module_desc_find(&dram_port_desc, KS_DESC_PORT, "req") != NULL, "no req port");
-    TB_CHECK(ks_module_desc_find(&dram_port_desc, KS_DESC_PORT, "resp") != NULL, "no resp port");
+    TB_CHECK(ks_module_desc_check(&dram_port_module_desc, err, sizeof err) == 0, "%s", err);
+    TB_CHECK(ks_module_desc_find(&dram_port_module_desc, KS_DESC_PORT, "req") != NULL, "no req port");
+    TB_CHECK(ks_module_desc_find(&dram_port_module_desc, KS_DESC_PORT, "resp") != NULL, "no resp port");
     /* its parameters are the DRAM standard file's keys (rtsim's [dram]
      * section, whose schema is made from the file): none is repeated here */
-    TB_CHECK(dram_port_desc.config_sections && !strcmp(dram_port_desc.config_sections, "dram") &&
-                 ks_module_desc_count(&dram_port_desc, KS_DESC_PARAM) == 0,
+    TB_CHECK(dram_port_module_desc.config_sections && !strcmp(dram_port_module_desc.config_sections, "dram") &&
+                 ks_module_desc_count(&dram_port_module_desc, KS_DESC_PARAM) == 0,
              "parameters named by section, not repeated");
     static dram_power_spec pw;
     TB_CHECK(dram_power_spec_load(&pw, "model/data/lpddr3_1600_idd.ini", err, sizeof err) == 0, "%s", err);
@@ -552,8 +552,8 @@ static void stats_and_desc(void)
     dram_port *p = dram_port_create(sim, "mem", &spec, &pw, req, resp, st, err, sizeof err);
     if (TB_CHECK(p != NULL, "%s", err)) {
         /* every statistic of the table is registered under "mem." */
-        TB_EQ_INT(ks_stats_count(st), ks_module_desc_count(&dram_port_desc, KS_DESC_STAT));
-        for (const ks_desc_item *d = dram_port_desc.items; d->kind != KS_DESC_END; d++) {
+        TB_EQ_INT(ks_stats_count(st), ks_module_desc_count(&dram_port_module_desc, KS_DESC_STAT));
+        for (const ks_desc_item *d = dram_port_module_desc.items; d->kind != KS_DESC_END; d++) {
             if (d->kind != KS_DESC_STAT)
                 continue;
             char name[96];

@@ -287,7 +287,7 @@ static void test_arithmetic(void)
 
     tb_begin("energy_model_refuses_part_without_figure");
     small_machine(&m);
-    m.cache[0].line = 128;  /* the small table has no 128-byte-line cache */
+    m.cache[0].line = 128;  /* the small table has no 128-byte-line cache_core */
     em = energy_model_create_with(&t, &m, err, sizeof err);
     TB_CHECK(em == NULL && strstr(err, "node_l1") && strstr(err, "128-byte line"), "%s", em ? "accepted" : err);
     energy_model_destroy(em);

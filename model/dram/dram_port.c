@@ -323,7 +323,7 @@ static double port_stat(const ks_stats *reg, void *user)
     }
 }
 
-/* Statistic table: name, unit, description (also in dram_port_desc). */
+/* Statistic table: name, unit, description (also in dram_port_module_desc). */
 static const ks_desc_item port_items[] = {
     {KS_DESC_PORT, "req", "in fifo<dram_port_req>", "", "", "requests (address, size, read/write, tag)"},
     {KS_DESC_PORT, "resp", "out fifo<dram_port_resp>", "", "", "one response per request when its last burst is done"},
@@ -353,19 +353,19 @@ static const ks_desc_item port_items[] = {
      "off chip, no area; ACT/PRE/RD/WR/REF energy and background standby (DRAMPower method)"},
     {KS_DESC_END, 0, 0, 0, 0, 0}};
 
-const ks_module_desc dram_port_desc = {"dram", "LPDDR3 memory: command-level controller behind timed FIFOs",
+const ks_module_desc dram_port_module_desc = {"dram", "LPDDR3 memory: command-level controller behind timed FIFOs",
                                        port_items, "dram"};
 
 
 static int reg_counter(dram_port *p, ks_stats *st, const char *name, const uint64_t *v)
 {
-    return ks_stat_decl_counter(st, &dram_port_desc, p->name, name, v);
+    return ks_stat_decl_counter(st, &dram_port_module_desc, p->name, name, v);
 }
 
 static int reg_formula(dram_port *p, ks_stats *st, const char *name, int which)
 {
     p->refs[which] = (port_stat_ref){p, which};
-    return ks_stat_decl_formula(st, &dram_port_desc, p->name, name, port_stat, &p->refs[which]);
+    return ks_stat_decl_formula(st, &dram_port_module_desc, p->name, name, port_stat, &p->refs[which]);
 }
 
 static int register_stats(dram_port *p, ks_stats *st, char *err, size_t errlen)
@@ -373,7 +373,7 @@ static int register_stats(dram_port *p, ks_stats *st, char *err, size_t errlen)
     char full[128];
     /* refuse before registering anything: a half-registered module would leave the
      * registry pointing into a freed struct */
-    for (const ks_desc_item *d = dram_port_desc.items; d->kind != KS_DESC_END; d++) {
+    for (const ks_desc_item *d = dram_port_module_desc.items; d->kind != KS_DESC_END; d++) {
         double v;
         snprintf(full, sizeof full, "%s.%s", p->name, d->name);
         if (d->kind == KS_DESC_STAT && ks_stats_value(st, full, &v) == 0) {
@@ -389,7 +389,7 @@ static int register_stats(dram_port *p, ks_stats *st, char *err, size_t errlen)
     rc |= reg_counter(p, st, "bytes", &p->n_bytes);
     rc |= reg_counter(p, st, "reads_done", &p->n_read_done);
     rc |= reg_counter(p, st, "read_latency_sum", &p->read_lat_sum);
-    rc |= ks_stat_decl_ratio(st, &dram_port_desc, p->name, "read_latency_mean", "read_latency_sum", "reads_done");
+    rc |= ks_stat_decl_ratio(st, &dram_port_module_desc, p->name, "read_latency_mean", "read_latency_sum", "reads_done");
     rc |= reg_counter(p, st, "writes_done", &p->n_write_done);
     rc |= reg_counter(p, st, "stall_cycles", &p->stall_cycles);
     rc |= reg_counter(p, st, "resp_blocked_cycles", &p->blocked_cycles);

@@ -23,7 +23,7 @@
  *    block, latencies and command streams equal the standalone driver's on the
  *    same request sequence (tests: testbench/tb_dram_port.c).
  *  - Statistics are registered under "<name>." with units and descriptions
- *    (dram_port_desc lists them); controller-derived ones (commands, row hits,
+ *    (dram_port_module_desc lists them); controller-derived ones (commands, row hits,
  *    energy) are formulas that first catch the controller up to the sim time.
  * Deterministic; no host state. */
 #ifndef RTSIM_DRAM_PORT_H
@@ -90,6 +90,6 @@ void dram_port_input_done(dram_port *p);
 uint64_t dram_port_outstanding(const dram_port *p);
 
 /* Parameters, ports and statistics of the module. */
-extern const ks_module_desc dram_port_desc;
+extern const ks_module_desc dram_port_module_desc;
 
 #endif

@@ -232,12 +232,12 @@ static const ks_desc_item energy_items[] = {
     {KS_DESC_STAT, "area.*_mm2", "mm2", "", "", "area of the * unit(s): FPUs and memory blocks"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
-const ks_module_desc energy_desc = {"energy", "energy, power and area from activity (docs/energy.md)", energy_items, "energy"};
+const ks_module_desc energy_module_desc = {"energy", "energy, power and area from activity (docs/energy.md)", energy_items, "energy"};
 
 int energy_register_stats(energy_model *em, ks_stats *st, char *err, size_t errlen)
 {
     energy_result *r = &em->r;
-    const ks_module_desc *d = &energy_desc;
+    const ks_module_desc *d = &energy_module_desc;
     int rc = 0;
     rc |= ks_stat_decl_real(st, d, NULL, "energy_mj", &r->total_energy_mj);
     rc |= ks_stat_decl_real(st, d, NULL, "power_mw", &r->total_power_mw);

@@ -131,7 +131,7 @@ void energy_compute(energy_model *em, const energy_activity *a, double mrps);
 
 int energy_register_stats(energy_model *em, ks_stats *st, char *err, size_t errlen);
 /* Its statistics, declared (--help-module energy). */
-extern const ks_module_desc energy_desc;
+extern const ks_module_desc energy_module_desc;
 
 /* Summary lines: energy per frame by unit, average power, area by unit, MRPS/mm2. */
 void energy_print_summary(const energy_model *em, FILE *out);

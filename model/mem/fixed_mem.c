@@ -16,7 +16,7 @@ static const ks_desc_item items[] = {
     {KS_DESC_PART, "dram", "DRAM", "", "", "off chip, no area; bytes x energy.fixed_mem_pj_per_byte"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
-const ks_module_desc fixed_mem_desc = {"fixed_mem", "fixed-latency main memory with a bandwidth limit", items, "memory"};
+const ks_module_desc fixed_mem_module_desc = {"fixed_mem", "fixed-latency main memory with a bandwidth limit", items, "memory"};
 
 #define FRAC 65536u
 
@@ -121,7 +121,7 @@ void fixed_mem_destroy(fixed_mem *m)
     free(m);
 }
 
-int fixed_mem_register_stats(fixed_mem *m, ks_stats *reg, const char *prefix)
+int fixed_mem_register(fixed_mem *m, ks_stats *reg, const char *prefix)
 {
     struct {
         const char *n;
@@ -133,7 +133,7 @@ int fixed_mem_register_stats(fixed_mem *m, ks_stats *reg, const char *prefix)
         {"bus_busy_cycles", &m->bus_busy_cycles},
     };
     for (size_t i = 0; i < sizeof f / sizeof f[0]; i++)
-        if (ks_stat_decl_counter(reg, &fixed_mem_desc, prefix, f[i].n, f[i].v))
+        if (ks_stat_decl_counter(reg, &fixed_mem_module_desc, prefix, f[i].n, f[i].v))
             return -1;
     return 0;
 }

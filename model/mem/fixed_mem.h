@@ -28,12 +28,12 @@
 
 typedef struct fixed_mem fixed_mem;
 
-extern const ks_module_desc fixed_mem_desc;
+extern const ks_module_desc fixed_mem_module_desc;
 
 fixed_mem *fixed_mem_create(ks_sim *sim, ks_clock *clk, const char *name, uint32_t latency, double bytes_per_cycle,
                             uint32_t max_outstanding, ks_fifo *req_in, ks_fifo *resp_out, char *err, size_t errlen);
 void fixed_mem_destroy(fixed_mem *m);
-int fixed_mem_register_stats(fixed_mem *m, ks_stats *reg, const char *prefix);
+int fixed_mem_register(fixed_mem *m, ks_stats *reg, const char *prefix);
 uint64_t fixed_mem_requests(const fixed_mem *m);
 uint64_t fixed_mem_bytes(const fixed_mem *m);
 uint64_t fixed_mem_latency_sum(const fixed_mem *m);

@@ -18,7 +18,7 @@ static const ks_desc_item items[] = {
     {KS_DESC_STAT, "responses", "responses", "", "", "responses routed back"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
-const ks_module_desc mem_arbiter_desc = {"arbiter", "round-robin arbiter of memory requests", items, NULL};
+const ks_module_desc mem_arbiter_module_desc = {"arbiter", "round-robin arbiter of memory requests", items, NULL};
 
 struct mem_arbiter {
     char *name;
@@ -138,9 +138,9 @@ void mem_arbiter_destroy(mem_arbiter *a)
     free(a);
 }
 
-int mem_arbiter_register_stats(mem_arbiter *a, ks_stats *reg, const char *prefix)
+int mem_arbiter_register(mem_arbiter *a, ks_stats *reg, const char *prefix)
 {
-    const ks_module_desc *d = &mem_arbiter_desc;
+    const ks_module_desc *d = &mem_arbiter_module_desc;
     if (ks_stat_decl_counter(reg, d, prefix, "grants", &a->grants))
         return -1;
     for (int i = 0; i < a->n; i++) {

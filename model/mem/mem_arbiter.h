@@ -25,7 +25,7 @@
 
 typedef struct mem_arbiter mem_arbiter;
 
-extern const ks_module_desc mem_arbiter_desc;
+extern const ks_module_desc mem_arbiter_module_desc;
 
 /* req_in[i] / resp_out[i]: per requester (resp_out[i] may be NULL for a
  * requester that never gets responses); req_out / resp_in: the shared side. */
@@ -33,7 +33,7 @@ mem_arbiter *mem_arbiter_create(ks_sim *sim, ks_clock *clk, const char *name, in
                                 ks_fifo *const *resp_out, ks_fifo *req_out, ks_fifo *resp_in, char *err,
                                 size_t errlen);
 void mem_arbiter_destroy(mem_arbiter *a);
-int mem_arbiter_register_stats(mem_arbiter *a, ks_stats *reg, const char *prefix);
+int mem_arbiter_register(mem_arbiter *a, ks_stats *reg, const char *prefix);
 uint64_t mem_arbiter_grants(const mem_arbiter *a, int input);
 int mem_arbiter_busy(const mem_arbiter *a);
 void mem_arbiter_describe(const mem_arbiter *a, char *buf, size_t len);

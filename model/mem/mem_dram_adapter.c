@@ -17,7 +17,7 @@ static const ks_desc_item items[] = {
     {KS_DESC_STAT, "latency_sum", "cycles", "", "", "sum of forward-to-response accelerator cycles"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
-const ks_module_desc mem_dram_adapter_desc = {"dram_adapter", "memory-side front end of the LPDDR3 port", items, "memory"};
+const ks_module_desc mem_dram_adapter_module_desc = {"dram_adapter", "memory-side front end of the LPDDR3 port", items, "memory"};
 
 typedef struct slot {
     uint16_t src;
@@ -134,9 +134,9 @@ void mem_dram_adapter_destroy(mem_dram_adapter *a)
     free(a);
 }
 
-int mem_dram_adapter_register_stats(mem_dram_adapter *a, ks_stats *reg, const char *prefix)
+int mem_dram_adapter_register(mem_dram_adapter *a, ks_stats *reg, const char *prefix)
 {
-    const ks_module_desc *d = &mem_dram_adapter_desc;
+    const ks_module_desc *d = &mem_dram_adapter_module_desc;
     int rc = 0;
     rc |= ks_stat_decl_counter(reg, d, prefix, "requests", &a->requests);
     rc |= ks_stat_decl_counter(reg, d, prefix, "bytes", &a->bytes);

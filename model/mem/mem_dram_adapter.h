@@ -27,7 +27,7 @@
 
 typedef struct mem_dram_adapter mem_dram_adapter;
 
-extern const ks_module_desc mem_dram_adapter_desc;
+extern const ks_module_desc mem_dram_adapter_module_desc;
 
 /* mem_in: fifo<mem_req>, mem_out: fifo<mem_resp>, dram_req: fifo<dram_port_req>,
  * dram_resp: fifo<dram_port_resp> (item sizes are checked). */
@@ -35,7 +35,7 @@ mem_dram_adapter *mem_dram_adapter_create(ks_sim *sim, ks_clock *clk, const char
                                           ks_fifo *mem_in, ks_fifo *mem_out, ks_fifo *dram_req, ks_fifo *dram_resp,
                                           char *err, size_t errlen);
 void mem_dram_adapter_destroy(mem_dram_adapter *a);
-int mem_dram_adapter_register_stats(mem_dram_adapter *a, ks_stats *reg, const char *prefix);
+int mem_dram_adapter_register(mem_dram_adapter *a, ks_stats *reg, const char *prefix);
 uint64_t mem_dram_adapter_requests(const mem_dram_adapter *a);
 uint64_t mem_dram_adapter_bytes(const mem_dram_adapter *a);
 uint64_t mem_dram_adapter_latency_sum(const mem_dram_adapter *a);

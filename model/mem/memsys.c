@@ -54,7 +54,7 @@ static const ks_desc_item totals_items[] = {
     {KS_DESC_STAT, "memory.bytes_total", "bytes", "", "", "bytes moved to/from main memory"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
-const ks_module_desc memsys_totals_desc = {"memory_side", "totals of the memory hierarchy", totals_items, NULL};
+const ks_module_desc memsys_totals_module_desc = {"memory_side", "totals of the memory hierarchy", totals_items, NULL};
 
 static double l1_hit_rate(const ks_stats *reg, void *user)
 {
@@ -62,7 +62,7 @@ static double l1_hit_rate(const ks_stats *reg, void *user)
     const memsys *ms = user;
     uint64_t h = 0, a = 0;
     for (int i = 0; i < ms->ntrv; i++) {
-        const cache_stats *s = cache_stats_live(cache_unit_core(ms->l1[i]));
+        const cache_stats *s = cache_core_stats_live(cache_get_core(ms->l1[i]));
         h += s->hits;
         a += s->accesses;
     }
@@ -115,13 +115,13 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
 
     for (int i = 0; i < ntrv; i++) {
         snprintf(name, sizeof name, "node_l1_%d", i);
-        if (!(ms->l1[i] = cache_unit_create(sim, clk, name, &p1, err, errlen)))
+        if (!(ms->l1[i] = cache_create(sim, clk, name, &p1, err, errlen)))
             goto fail;
         snprintf(name, sizeof name, "node_l1_%d.miss", i);
         FIFO(l1_miss[i], name, "fifo.mem_l1_miss", mem_req, 0);
         snprintf(name, sizeof name, "node_l1_%d.fill", i);
         FIFO(l1_fill[i], name, "fifo.mem_l1_fill", mem_resp, p1.line_bytes);
-        cache_unit_connect(ms->l1[i], l1_miss[i], l1_fill[i], NULL, NULL);
+        cache_connect(ms->l1[i], l1_miss[i], l1_fill[i], NULL, NULL);
     }
     ks_fifo *l2_req, *l2_resp, *l2_miss, *l2_fill, *prim_miss, *prim_fill, *mem_req_f, *mem_resp_f;
     FIFO(l2_req, "node_l2.req", "fifo.mem_l2_req", mem_req, 0);
@@ -134,12 +134,12 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
     FIFO(mem_resp_f, "memory.resp", "fifo.mem_resp", mem_resp, mem_line);
     if (!(ms->l2_arb = mem_arbiter_create(sim, clk, "l2_arbiter", ntrv, l1_miss, l1_fill, l2_req, l2_resp, err, errlen)))
         goto fail;
-    if (!(ms->l2 = cache_unit_create(sim, clk, "node_l2", &p2, err, errlen)))
+    if (!(ms->l2 = cache_create(sim, clk, "node_l2", &p2, err, errlen)))
         goto fail;
-    cache_unit_connect(ms->l2, l2_miss, l2_fill, l2_req, l2_resp);
-    if (!(ms->prim = cache_unit_create(sim, clk, "prim", &pp, err, errlen)))
+    cache_connect(ms->l2, l2_miss, l2_fill, l2_req, l2_resp);
+    if (!(ms->prim = cache_create(sim, clk, "prim", &pp, err, errlen)))
         goto fail;
-    cache_unit_connect(ms->prim, prim_miss, prim_fill, NULL, NULL);
+    cache_connect(ms->prim, prim_miss, prim_fill, NULL, NULL);
     ks_fifo *mem_in[2] = {l2_miss, prim_miss}, *mem_out[2] = {l2_fill, prim_fill};
     if (!(ms->mem_arb = mem_arbiter_create(sim, clk, "mem_arbiter", 2, mem_in, mem_out, mem_req_f, mem_resp_f, err,
                                            errlen)))
@@ -185,18 +185,18 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
         int rc = 0;
         for (int i = 0; i < ntrv; i++) {
             snprintf(name, sizeof name, "node_l1_%d", i);
-            rc |= cache_unit_register_stats(ms->l1[i], stats, name);
+            rc |= cache_register(ms->l1[i], stats, name);
         }
-        rc |= ks_stat_decl_formula(stats, &memsys_totals_desc, NULL, "node_l1.hit_rate", l1_hit_rate, ms);
-        rc |= cache_unit_register_stats(ms->l2, stats, "node_l2");
-        rc |= cache_unit_register_stats(ms->prim, stats, "prim");
-        rc |= mem_arbiter_register_stats(ms->l2_arb, stats, "l2_arbiter");
-        rc |= mem_arbiter_register_stats(ms->mem_arb, stats, "mem_arbiter");
+        rc |= ks_stat_decl_formula(stats, &memsys_totals_module_desc, NULL, "node_l1.hit_rate", l1_hit_rate, ms);
+        rc |= cache_register(ms->l2, stats, "node_l2");
+        rc |= cache_register(ms->prim, stats, "prim");
+        rc |= mem_arbiter_register(ms->l2_arb, stats, "l2_arbiter");
+        rc |= mem_arbiter_register(ms->mem_arb, stats, "mem_arbiter");
         if (ms->fmem)
-            rc |= fixed_mem_register_stats(ms->fmem, stats, "memory");
+            rc |= fixed_mem_register(ms->fmem, stats, "memory");
         if (ms->adapter)
-            rc |= mem_dram_adapter_register_stats(ms->adapter, stats, "memory");
-        rc |= ks_stat_decl_formula(stats, &memsys_totals_desc, NULL, "memory.bytes_total", memory_bytes_fn, ms);
+            rc |= mem_dram_adapter_register(ms->adapter, stats, "memory");
+        rc |= ks_stat_decl_formula(stats, &memsys_totals_module_desc, NULL, "memory.bytes_total", memory_bytes_fn, ms);
         if (rc) {
             snprintf(err, errlen, "memsys: registering statistics: %s", ks_stats_error(stats));
             goto fail;
@@ -213,9 +213,9 @@ void memsys_destroy(memsys *ms)
     if (!ms)
         return;
     for (int i = 0; i < ms->ntrv; i++)
-        cache_unit_destroy(ms->l1[i]);
-    cache_unit_destroy(ms->l2);
-    cache_unit_destroy(ms->prim);
+        cache_destroy(ms->l1[i]);
+    cache_destroy(ms->l2);
+    cache_destroy(ms->prim);
     mem_arbiter_destroy(ms->l2_arb);
     mem_arbiter_destroy(ms->mem_arb);
     fixed_mem_destroy(ms->fmem);
@@ -227,13 +227,13 @@ void memsys_destroy(memsys *ms)
 }
 
 int memsys_trv_count(const memsys *ms) { return ms->ntrv; }
-cache *memsys_node_l1(memsys *ms, int trv) { return cache_unit_core(ms->l1[trv]); }
-cache *memsys_prim(memsys *ms) { return cache_unit_core(ms->prim); }
-cache *memsys_node_l2(memsys *ms) { return cache_unit_core(ms->l2); }
-uint32_t memsys_node_l1_latency(const memsys *ms) { return cache_get_params(cache_unit_core(ms->l1[0]))->hit_latency; }
-uint32_t memsys_prim_latency(const memsys *ms) { return cache_get_params(cache_unit_core(ms->prim))->hit_latency; }
-ks_event *memsys_node_l1_filled(memsys *ms, int trv) { return cache_unit_ev_filled(ms->l1[trv]); }
-ks_event *memsys_prim_filled(memsys *ms) { return cache_unit_ev_filled(ms->prim); }
+cache_core *memsys_node_l1(memsys *ms, int trv) { return cache_get_core(ms->l1[trv]); }
+cache_core *memsys_prim(memsys *ms) { return cache_get_core(ms->prim); }
+cache_core *memsys_node_l2(memsys *ms) { return cache_get_core(ms->l2); }
+uint32_t memsys_node_l1_latency(const memsys *ms) { return cache_core_get_params(cache_get_core(ms->l1[0]))->hit_latency; }
+uint32_t memsys_prim_latency(const memsys *ms) { return cache_core_get_params(cache_get_core(ms->prim))->hit_latency; }
+ks_event *memsys_node_l1_filled(memsys *ms, int trv) { return cache_ev_filled(ms->l1[trv]); }
+ks_event *memsys_prim_filled(memsys *ms) { return cache_ev_filled(ms->prim); }
 
 cache_unit *memsys_unit(memsys *ms, const char *name)
 {
@@ -242,7 +242,7 @@ cache_unit *memsys_unit(memsys *ms, const char *name)
     if (strcmp(name, "prim") == 0)
         return ms->prim;
     for (int i = 0; i < ms->ntrv; i++)
-        if (strcmp(name, cache_unit_name(ms->l1[i])) == 0)
+        if (strcmp(name, cache_name(ms->l1[i])) == 0)
             return ms->l1[i];
     return NULL;
 }
@@ -279,9 +279,9 @@ ks_fifo *memsys_fifo_at(const memsys *ms, int i, const char **key, uint32_t *lin
 int memsys_busy(const memsys *ms)
 {
     for (int i = 0; i < ms->ntrv; i++)
-        if (cache_unit_busy(ms->l1[i]))
+        if (cache_busy(ms->l1[i]))
             return 1;
-    if (cache_unit_busy(ms->l2) || cache_unit_busy(ms->prim))
+    if (cache_busy(ms->l2) || cache_busy(ms->prim))
         return 1;
     if (ms->fmem && fixed_mem_busy(ms->fmem))
         return 1;
@@ -297,12 +297,12 @@ static const struct {
     const char *alias;
     const ks_module_desc *desc;
 } module_aliases[] = {
-    {"node_l1", &cache_unit_desc},      {"node_l2", &cache_unit_desc},  {"prim", &cache_unit_desc},
-    {"l2_arbiter", &mem_arbiter_desc},  {"mem_arbiter", &mem_arbiter_desc}, {"fixed", &fixed_mem_desc},
-    {"memory", &mem_dram_adapter_desc}, {"lpddr3", &dram_port_desc},
+    {"node_l1", &cache_module_desc},      {"node_l2", &cache_module_desc},  {"prim", &cache_module_desc},
+    {"l2_arbiter", &mem_arbiter_module_desc},  {"mem_arbiter", &mem_arbiter_module_desc}, {"fixed", &fixed_mem_module_desc},
+    {"memory", &mem_dram_adapter_module_desc}, {"lpddr3", &dram_port_module_desc},
 };
-static const ks_module_desc *const module_all[] = {&cache_unit_desc, &mem_arbiter_desc, &fixed_mem_desc,
-                                                   &mem_dram_adapter_desc, &dram_port_desc, &memsys_totals_desc};
+static const ks_module_desc *const module_all[] = {&cache_module_desc, &mem_arbiter_module_desc, &fixed_mem_module_desc,
+                                                   &mem_dram_adapter_module_desc, &dram_port_module_desc, &memsys_totals_module_desc};
 
 const ks_module_desc *memsys_module_desc(const char *name)
 {

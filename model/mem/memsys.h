@@ -14,8 +14,8 @@
  *    latency fifo.mem_latency). cfg must have the memsys schemas registered
  *    (memsys_add_schemas) and be finished. Statistics are registered in
  *    `stats` when not NULL.
- *  - The TRVs and the IST call cache_access(memsys_node_l1(ms, i), addr,
- *    bytes, cycle) and cache_access(memsys_prim(ms), ...) on the accelerator
+ *  - The TRVs and the IST call cache_core_access(memsys_node_l1(ms, i), addr,
+ *    bytes, cycle) and cache_core_access(memsys_prim(ms), ...) on the accelerator
  *    clock's cycle: CACHE_HIT = data usable (add memsys hit latency),
  *    CACHE_MISS = retry later (the line is on its way), CACHE_BLOCKED = retry.
  *    The *_filled events fire after each fill of that cache (to wake sleepers).
@@ -36,8 +36,8 @@
 #include "kernel/module_desc.h"
 #include "kernel/sim.h"
 #include "kernel/stats.h"
+#include "model/mem/cache_core.h"
 #include "model/mem/cache.h"
-#include "model/mem/cache_unit.h"
 #include "config/config.h"
 #include "model/mem/memsys_config.h"
 
@@ -48,9 +48,9 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
 void memsys_destroy(memsys *ms);
 
 int memsys_trv_count(const memsys *ms);
-cache *memsys_node_l1(memsys *ms, int trv);
-cache *memsys_prim(memsys *ms);
-cache *memsys_node_l2(memsys *ms);
+cache_core *memsys_node_l1(memsys *ms, int trv);
+cache_core *memsys_prim(memsys *ms);
+cache_core *memsys_node_l2(memsys *ms);
 /* Hit latency of the L1 / primitive cache in cycles (from the configuration). */
 uint32_t memsys_node_l1_latency(const memsys *ms);
 uint32_t memsys_prim_latency(const memsys *ms);
@@ -80,7 +80,7 @@ ks_fifo *memsys_fifo_at(const memsys *ms, int i, const char **config_key, uint32
  * "lpddr3" -> dram); NULL if unknown. */
 const ks_module_desc *memsys_module_desc(const char *name);
 /* The memory side's own totals (node_l1.hit_rate, memory.bytes_total). */
-extern const ks_module_desc memsys_totals_desc;
+extern const ks_module_desc memsys_totals_module_desc;
 /* Comma-separated module names, for messages. */
 void memsys_module_list(FILE *out);
 

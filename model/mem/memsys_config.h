@@ -26,7 +26,7 @@
 #include <stddef.h>
 #include <stdint.h>
 
-#include "model/mem/cache.h"
+#include "model/mem/cache_core.h"
 #include "config/config.h"
 
 typedef enum memsys_model { MEMSYS_FIXED = 0, MEMSYS_LPDDR3 = 1 } memsys_model;

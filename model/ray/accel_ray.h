@@ -14,7 +14,7 @@
 #include <stdbool.h>
 #include <stdint.h>
 
-#include "model/mem/cache.h"
+#include "model/mem/cache_core.h"
 #include "tracer/bvh_layout.h"
 
 #define ACCEL_NO_HIT UINT32_MAX
@@ -49,7 +49,7 @@ enum accel_event_kind {
 /* uid: the ray's admission number (0, 1, ... in admission order). */
 typedef void (*accel_event_fn)(void *user, uint32_t uid, int kind, uint32_t a, uint32_t b, float t);
 
-/* A synchronous cache probe (model/mem/cache.h protocol: HIT, MISS, BLOCKED). */
+/* A synchronous cache probe (model/mem/cache_core.h protocol: HIT, MISS, BLOCKED). */
 /* *cycles (set on a hit): cycles the access occupies the port (bank
  * conflicts: > 1 stalls the requester). */
 typedef cache_result (*accel_probe_fn)(void *ctx, uint64_t addr, uint32_t bytes, uint64_t now, uint32_t *cycles);

@@ -29,7 +29,7 @@ static const ks_desc_item trv_items[] = {
     {KS_DESC_PORT, "in_ist", "in fifo<trv_msg>", "", "", "rays back from the IST after a leaf"},
     {KS_DESC_PORT, "out_ist", "out fifo<trv_msg>", "", "", "rays with a leaf to test"},
     {KS_DESC_PORT, "out_done", "out fifo<trv_msg>", "", "", "finished rays to the scheduler"},
-    {KS_DESC_PORT, "node_l1", "cache probe", "", "", "node L1 (cache_access; miss -> looping for next chance)"},
+    {KS_DESC_PORT, "node_l1", "cache probe", "", "", "node L1 (cache_core_access; miss -> looping for next chance)"},
     {KS_DESC_PORT, "pipe", "internal fifo<trv_msg>", "", "", "the pipeline stages after issue (latency depth-1)"},
     {KS_DESC_PORT, "loop", "internal fifo<trv_msg>", "", "", "rays going round again"},
     {KS_DESC_STAT, "busy_cycles", "cycles", "", "", "cycles a ray was issued into the pipeline"},

@@ -267,7 +267,7 @@ static void test_create_errors(void)
     tb_begin("create_rejects_impossible_parameters");
     char err[256];
     cache_params p = {16384, 128, 3, 1, 1, 8, 4, 1, 0};
-    TB_CHECK(cache_core_create(&p, err, sizeof err) == NULL && strstr(err, "must be a power of two"), "3 ways: %s", err);
+    TB_CHECK(cache_core_create(&p, err, sizeof err) == NULL && strstr(err, "must be a whole power of two"), "3 ways: %s", err);
     p.ways = 0;
     TB_CHECK(cache_core_create(&p, err, sizeof err) == NULL && strstr(err, "ways"), "0 ways: %s", err);
     p.ways = 4;

@@ -85,9 +85,9 @@ static void test_presets(void)
     for (int i = 0; i < 3; i++) {
         cache_params p;
         memsys_cache_params(m, secs[i], &p);
-        TB_EQ_INT(memsys_check_cache_params(&p, secs[i], err, sizeof err), 0);
+        TB_EQ_INT(cache_core_check_params(&p, secs[i], err, sizeof err), 0);
         memsys_cache_params(b, secs[i], &p);
-        TB_EQ_INT(memsys_check_cache_params(&p, secs[i], err, sizeof err), 0);
+        TB_EQ_INT(cache_core_check_params(&p, secs[i], err, sizeof err), 0);
     }
     rtcfg_destroy(b);
     rtcfg_destroy(m);

@@ -88,32 +88,53 @@ uint64_t cache_core_capacity_bytes(const cache_params *p)
     return per_set ? p->size_bytes / per_set * per_set : 0;
 }
 
-cache_core *cache_core_create(const cache_params *p, char *err, size_t errlen)
+/* The one statement of which cache geometries work (the configuration's
+ * check and cache_core_create both use it). */
+int cache_core_check_params(const cache_params *p, const char *s, char *err, size_t errlen)
 {
+    uint64_t per_set = (uint64_t)p->line_bytes * p->ways * p->banks;
     if (p->index_addressed) {
+        /* the word is a node (N x 32 B): any whole number of sets */
         if (!pow2(p->size_bytes) || p->line_bytes < 16 || p->line_bytes % 16) {
-            snprintf(err, errlen, "cache: size %u must be a power of two, index-addressed word %u a multiple of 16",
+            snprintf(err, errlen, "%s.size = %u must be a power of two (index-addressed, %u-byte words)", s,
                      p->size_bytes, p->line_bytes);
-            return NULL;
+            return -1;
+        }
+        if (p->ways == 0 || p->banks == 0 || !pow2(p->banks) || p->size_bytes < per_set) {
+            snprintf(err, errlen,
+                     "[%s]: %s.addressing = index: size/(node*ways*banks) = %u/(%u*%u*%u) must be >= 1 set (banks a "
+                     "power of two); raise %s.size or lower %s.ways",
+                     s, s, p->size_bytes, p->line_bytes, p->ways, p->banks, s, s);
+            return -1;
         }
     } else if (!pow2(p->size_bytes) || !pow2(p->line_bytes) || p->line_bytes < 16) {
-        snprintf(err, errlen, "cache: size %u and line %u must be powers of two, line >= 16", p->size_bytes,
-                 p->line_bytes);
-        return NULL;
+        snprintf(err, errlen, "%s.size = %u and %s.line = %u: both must be powers of two (line >= 16)", s,
+                 p->size_bytes, s, p->line_bytes);
+        return -1;
     }
-    if (!p->ways || !pow2(p->banks) || !p->ports || !p->mshrs || !p->mshr_merge || !p->hit_latency) {
+    if (p->ways == 0 || p->banks == 0 || !pow2(p->banks) || p->ports == 0 || p->mshrs == 0 || p->mshr_merge == 0 ||
+        p->hit_latency == 0) {
         snprintf(err, errlen,
-                 "cache: ways, ports, mshrs, mshr_merge, hit_latency must be >= 1, banks a power of two "
-                 "(ways %u banks %u ports %u mshrs %u merge %u latency %u)",
-                 p->ways, p->banks, p->ports, p->mshrs, p->mshr_merge, p->hit_latency);
-        return NULL;
+                 "[%s]: ways, ports, mshrs, mshr_merge, hit_latency must be >= 1 and banks a power of two "
+                 "(got ways=%u banks=%u ports=%u mshrs=%u mshr_merge=%u hit_latency=%u)",
+                 s, p->ways, p->banks, p->ports, p->mshrs, p->mshr_merge, p->hit_latency);
+        return -1;
     }
+    if (!p->index_addressed && (p->size_bytes % per_set || !pow2(p->size_bytes / per_set))) {
+        snprintf(err, errlen,
+                 "[%s]: size/(line*ways*banks) = %u/(%u*%u*%u) must be a whole power of two >= 1 (sets per bank); "
+                 "change %s.ways or %s.size",
+                 s, p->size_bytes, p->line_bytes, p->ways, p->banks, s, s);
+        return -1;
+    }
+    return 0;
+}
+
+cache_core *cache_core_create(const cache_params *p, char *err, size_t errlen)
+{
+    if (cache_core_check_params(p, "cache", err, errlen))
+        return NULL;
     uint64_t per_set = (uint64_t)p->line_bytes * p->ways * p->banks;
-    if (p->index_addressed ? p->size_bytes < per_set : p->size_bytes % per_set || !pow2(p->size_bytes / per_set)) {
-        snprintf(err, errlen, "cache: size/(line*ways*banks) = %u/(%u*%u*%u) must be %s>= 1", p->size_bytes,
-                 p->line_bytes, p->ways, p->banks, p->index_addressed ? "" : "a power of two ");
-        return NULL;
-    }
     cache_core *c = calloc(1, sizeof *c);
     if (!c) {
         snprintf(err, errlen, "cache: out of memory");

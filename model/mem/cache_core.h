@@ -81,8 +81,12 @@ typedef struct cache_stats {
     uint64_t bytes_filled;    /* line bytes installed */
 } cache_stats;
 
-/* NULL with a message in err when the parameters are impossible (the message
- * names the field; memsys_check_cache_params gives key-level messages). */
+/* The geometry rules, written once: 0, or -1 with a message naming
+ * SECTION.key and the allowed values (the configuration check of
+ * model/mem/memsys_config.c calls it with the section, cache_core_create
+ * with "cache"). */
+int cache_core_check_params(const cache_params *p, const char *section, char *err, size_t errlen);
+/* NULL with a message in err when the parameters are impossible. */
 cache_core *cache_core_create(const cache_params *p, char *err, size_t errlen);
 void cache_core_destroy(cache_core *c);
 const cache_params *cache_core_get_params(const cache_core *c);

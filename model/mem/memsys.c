@@ -86,8 +86,8 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
     memsys_cache_params(cfg, "node_l1", &p1);
     memsys_cache_params(cfg, "node_l2", &p2);
     memsys_cache_params(cfg, "prim", &pp);
-    if (memsys_check_cache_params(&p1, "node_l1", err, errlen) || memsys_check_cache_params(&p2, "node_l2", err, errlen) ||
-        memsys_check_cache_params(&pp, "prim", err, errlen))
+    if (cache_core_check_params(&p1, "node_l1", err, errlen) || cache_core_check_params(&p2, "node_l2", err, errlen) ||
+        cache_core_check_params(&pp, "prim", err, errlen))
         return NULL;
     if (p1.line_bytes > p2.line_bytes) {
         snprintf(err, errlen, "node_l1.line = %u must be <= node_l2.line = %u (an L1 fill is one L2 line)",

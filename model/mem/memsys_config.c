@@ -236,39 +236,6 @@ int64_t memsys_line_bytes(const rtcfg *cfg, const char *section)
     return p.line_bytes;
 }
 
-static int is_pow2(uint64_t v) { return v && !(v & (v - 1)); }
-
-int memsys_check_cache_params(const cache_params *p, const char *s, char *err, size_t errlen)
-{
-    if (p->index_addressed) {
-        /* the word is a node (N x 32 B): any whole number of sets */
-        uint64_t per_set = (uint64_t)p->line_bytes * p->ways * p->banks;
-        if (!is_pow2(p->size_bytes) || p->line_bytes < 16 || p->line_bytes % 16)
-            return rtcfg_errorf(err, errlen, "%s.size = %u must be a power of two (index-addressed, %u-byte words)", s,
-                                p->size_bytes, p->line_bytes);
-        if (p->ways == 0 || p->banks == 0 || !is_pow2(p->banks) || p->size_bytes < per_set)
-            return rtcfg_errorf(err, errlen,
-                                "[%s]: %s.addressing = index: size/(node*ways*banks) = %u/(%u*%u*%u) must be >= 1 "
-                                "set (banks a power of two); raise %s.size or lower %s.ways",
-                                s, s, p->size_bytes, p->line_bytes, p->ways, p->banks, s, s);
-    } else if (!is_pow2(p->size_bytes) || !is_pow2(p->line_bytes) || p->line_bytes < 16)
-        return rtcfg_errorf(err, errlen, "%s.size = %u and %s.line = %u: both must be powers of two (line >= 16)", s,
-                            p->size_bytes, s, p->line_bytes);
-    if (p->ways == 0 || p->banks == 0 || !is_pow2(p->banks) || p->ports == 0 || p->mshrs == 0 || p->mshr_merge == 0 ||
-        p->hit_latency == 0)
-        return rtcfg_errorf(err, errlen,
-                            "[%s]: ways, ports, mshrs, mshr_merge, hit_latency must be >= 1 and banks a power of two "
-                            "(got ways=%u banks=%u ports=%u mshrs=%u mshr_merge=%u hit_latency=%u)",
-                            s, p->ways, p->banks, p->ports, p->mshrs, p->mshr_merge, p->hit_latency);
-    uint64_t per_set = (uint64_t)p->line_bytes * p->ways * p->banks;
-    if (!p->index_addressed && (p->size_bytes % per_set || !is_pow2(p->size_bytes / per_set)))
-        return rtcfg_errorf(err, errlen,
-                            "[%s]: size/(line*ways*banks) = %u/(%u*%u*%u) must be a whole power of two >= 1 "
-                            "(sets per bank); change %s.ways or %s.size",
-                            s, p->size_bytes, p->line_bytes, p->ways, p->banks, s, s);
-    return 0;
-}
-
 /* The most lines an object of `bytes` bytes touches in a cache of `line`-byte
  * lines, given the memory image's layout (tracer/bvh_image.c): nodes of N x
  * 32 B back to back from address 0, triangles of 48 B back to back from a
@@ -294,7 +261,7 @@ static int check_caches(const rtcfg *cfg, char *err, size_t errlen)
             continue;
         cache_params p;
         memsys_cache_params(cfg, secs[i], &p);
-        if (memsys_check_cache_params(&p, secs[i], err, errlen))
+        if (cache_core_check_params(&p, secs[i], err, errlen))
             return -1;
     }
     /* A probe is all-or-nothing (cache.h): every line one access touches

@@ -56,8 +56,6 @@ int64_t memsys_line_bytes(const rtcfg *cfg, const char *section);
 /* Bytes of one BVH node: machine.branching x 32 (tracer/bvh_layout.h). */
 int64_t memsys_node_bytes(const rtcfg *cfg);
 
-/* Checks a cache's parameters; the message names SECTION.key. */
-int memsys_check_cache_params(const cache_params *p, const char *section, char *err, size_t errlen);
 
 /* The most lines of `line` bytes an object of `bytes` bytes touches in the
  * memory image's layout (a node: bytes = machine.branching x 32; a

@@ -11,7 +11,6 @@
 #ifndef RTSIM_CLI_RTSIM_ESTIMATE_H
 #define RTSIM_CLI_RTSIM_ESTIMATE_H
 
-#include <ini.h>
 #include <stdbool.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -20,6 +19,7 @@
 
 #include "frame/frame.h"
 #include "config/config.h"
+#include "config/ini_file.h"
 #include "tracer/bounce.h"
 #include "tracer/traverse.h"
 
@@ -32,41 +32,44 @@ typedef struct rtsim_estimate {
     double visits_per_ray, tests_per_ray;
 } rtsim_estimate;
 
-static int rtsim_estimate_ini(void *user, const char *section, const char *name, const char *value)
+static const char *const rtsim_estimate_keys[] = {"sample_pixels",         "overhead",          "primary_mcycles_per_s",
+                                                  "diffuse_mcycles_per_s", "exhaustive_factor", "announce_seconds",
+                                                  "progress_seconds"};
+#define RTSIM_ESTIMATE_NKEYS 7
+
+static double *rtsim_estimate_field(rtsim_estimate_params *p, int i)
 {
-    rtsim_estimate_params *p = user;
-    static const char *const names[] = {"sample_pixels",         "overhead",          "primary_mcycles_per_s",
-                                        "diffuse_mcycles_per_s", "exhaustive_factor", "announce_seconds",
-                                        "progress_seconds"};
-    double *fields[] = {&p->sample_pixels, &p->overhead,   &p->primary_mcps, &p->diffuse_mcps,
-                        &p->exhaustive_factor, &p->announce_s, &p->progress_s};
-    if (strcmp(section, "estimate"))
-        return 0;
-    for (size_t i = 0; i < sizeof names / sizeof names[0]; i++)
-        if (!strcmp(name, names[i])) {
-            char *end;
-            double v = strtod(value, &end);
-            if (end == value || !(v > 0))
-                return 0;
-            *fields[i] = v;
-            return 1;
-        }
+    double *fields[RTSIM_ESTIMATE_NKEYS] = {&p->sample_pixels, &p->overhead,          &p->primary_mcps, &p->diffuse_mcps,
+                                            &p->exhaustive_factor, &p->announce_s, &p->progress_s};
+    return fields[i];
+}
+
+static int rtsim_estimate_ini(ini_file *f, void *user, const char *section, const char *name, const char *value)
+{
+    const int i = ini_file_key_index(f, section, name, rtsim_estimate_keys, RTSIM_ESTIMATE_NKEYS);
+    if (i < 0)
+        return -1;
+    double v;
+    if (ini_file_number(value, &v) || !(v > 0))
+        return ini_file_error(f, "%s = '%s' invalid, allowed a number > 0", name, value);
+    *rtsim_estimate_field(user, i) = v;
     return 0;
 }
 
-/* Reads DATA_DIR/estimate.ini. */
+/* Reads DATA_DIR/estimate.ini (every key of [estimate] is needed). */
 static inline bool rtsim_estimate_load(rtsim_estimate_params *p, char *err, size_t errlen)
 {
     char path[1024];
     snprintf(path, sizeof path, "%s/estimate.ini", rtcfg_data_dir());
     memset(p, 0, sizeof *p);
-    int rc = ini_parse(path, rtsim_estimate_ini, p);
-    if (rc || !p->sample_pixels || !p->overhead || !p->primary_mcps || !p->diffuse_mcps || !p->exhaustive_factor ||
-        !p->announce_s || !p->progress_s) {
-        snprintf(err, errlen, "%s: %s (every key of [estimate] is needed, each a number > 0)", path,
-                 rc < 0 ? "cannot open" : rc > 0 ? "bad line" : "missing or bad key");
+    static const ini_file_opts opts = {.what = "a run-time estimate", .section = "estimate"};
+    if (ini_file_read(path, &opts, rtsim_estimate_ini, p, err, errlen))
         return false;
-    }
+    for (int i = 0; i < RTSIM_ESTIMATE_NKEYS; i++)
+        if (!*rtsim_estimate_field(p, i)) {
+            snprintf(err, errlen, "%s: missing key %s in [estimate] (a number > 0)", path, rtsim_estimate_keys[i]);
+            return false;
+        }
     return true;
 }
 

@@ -2,14 +2,14 @@
  * See config.h for the contract. */
 #include "config/config.h"
 
+#include "config/ini_file.h"
+
 #include <ctype.h>
 #include <errno.h>
-#include <ini.h>
 #include <math.h>
 #include <stdarg.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 #ifndef RTSIM_DATA_DIR
@@ -402,67 +402,18 @@ typedef struct file_entry {
 } file_entry;
 
 typedef struct file_loader {
-    FILE *f;
-    const char *path;
-    int line;
-    bool too_long;
-    int long_line;
     file_entry *e;
     int n, cap;
-    char *err;
-    size_t errlen;
-    bool failed;
-    int fail_line;       /* line of the handler's error (inih goes on after errors) */
 } file_loader;
 
-/* inih reader: counts lines (the handler gets no line numbers in Debian's
- * build) and refuses over-long lines instead of letting inih split them. */
-static char *reader(char *buf, int size, void *stream)
-{
-    file_loader *L = stream;
-    if (!fgets(buf, size, L->f))
-        return NULL;
-    L->line++;
-    size_t n = strlen(buf);
-    if (n == (size_t)size - 1 && buf[n - 1] != '\n' && !feof(L->f)) {
-        if (!L->too_long) {
-            L->too_long = true;
-            L->long_line = L->line;
-        }
-        int c;
-        while ((c = fgetc(L->f)) != EOF && c != '\n') {
-        }
-    }
-    return buf;
-}
-
-static int handler(void *user, const char *section, const char *name, const char *value)
+/* Keeps the file's entries: they are applied once the whole file has read
+ * without error (a bad file changes nothing). */
+static int handler(ini_file *f, void *user, const char *section, const char *name, const char *value)
 {
     file_loader *L = user;
-    if (L->failed)
-        return 0;
-    if (!section[0]) {
-        rtcfg_errorf(L->err, L->errlen, "%s:%d: key '%s' outside a [section] (write e.g. [node_l1] above it)", L->path,
-                     L->line, name);
-        L->failed = true;
-        L->fail_line = L->line;
-        return 0;
-    }
     char key[KEY_MAX];
-    if (snprintf(key, sizeof key, "%s.%s", section, name) >= (int)sizeof key) {
-        rtcfg_errorf(L->err, L->errlen, "%s:%d: key '%s.%s' too long", L->path, L->line, section, name);
-        L->failed = true;
-        L->fail_line = L->line;
-        return 0;
-    }
-    for (int i = 0; i < L->n; i++)
-        if (strcmp(L->e[i].key, key) == 0) {
-            rtcfg_errorf(L->err, L->errlen, "%s:%d: %s given twice (first at line %d)", L->path, L->line, key,
-                         L->e[i].line);
-            L->failed = true;
-            L->fail_line = L->line;
-            return 0;
-        }
+    if (snprintf(key, sizeof key, "%s.%s", section, name) >= (int)sizeof key)
+        return ini_file_error(f, "key '%s.%s' too long", section, name);
     if (L->n == L->cap) {
         L->cap = L->cap ? 2 * L->cap : 64;
         L->e = xrealloc(L->e, (size_t)L->cap * sizeof *L->e);
@@ -470,8 +421,8 @@ static int handler(void *user, const char *section, const char *name, const char
     file_entry *e = &L->e[L->n++];
     snprintf(e->key, sizeof e->key, "%s", key);
     e->value = xstrdup(value);
-    e->line = L->line;
-    return 1;
+    e->line = ini_file_line(f);
+    return 0;
 }
 
 const char *rtcfg_data_dir(void)
@@ -533,41 +484,12 @@ int rtcfg_load(rtcfg *cfg, const char *what, char *err, size_t errlen)
         return rtcfg_errorf(err, errlen, "configuration path too long");
     }
     file_loader L = {0};
-    L.path = path;
-    L.err = err;
-    L.errlen = errlen;
-    L.f = fopen(path, "r");
-    if (!L.f)
-        return rtcfg_errorf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
-    /* a folder opens like a file on Linux and reads as empty: it was taken
-     * for an empty configuration, i.e. the default machine (issue 15) */
-    struct stat st;
-    if (fstat(fileno(L.f), &st) == 0 && S_ISDIR(st.st_mode)) {
-        fclose(L.f);
-        return rtcfg_errorf(err, errlen, "%s: is a folder, not a machine configuration (.ini) file", path);
-    }
-    int rc = ini_parse_stream(reader, &L, handler, &L);
-    fclose(L.f);
-    int result = 0;
-    if (L.too_long && (!L.failed || L.long_line <= L.fail_line)) {
-        result = rtcfg_errorf(err, errlen, "%s:%d: line too long (at most %d characters)", path, L.long_line,
-                              INI_MAX_LINE - 2);
-    } else if (rc > 0 && (!L.failed || rc < L.fail_line)) {
-        result = rtcfg_errorf(err, errlen, "%s:%d: syntax error (expected [section], key = value or ; comment)", path, rc);
-    } else if (L.failed) {
-        result = -1;
-    } else if (L.too_long) {
-        result = rtcfg_errorf(err, errlen, "%s:%d: line too long (at most %d characters)", path, L.long_line,
-                              INI_MAX_LINE - 2);
-    } else if (rc != 0) {
-        result = rtcfg_errorf(err, errlen, "%s:%d: syntax error (expected [section], key = value or ; comment)", path,
-                              rc > 0 ? rc : L.line);
-    } else {
-        for (int i = 0; i < L.n && result == 0; i++) {
-            char where[1100];
-            snprintf(where, sizeof where, "%s:%d", path, L.e[i].line);
-            result = apply_entry(cfg, L.e[i].key, L.e[i].value, where, LEVEL_FILE, err, errlen);
-        }
+    static const ini_file_opts opts = {.what = "a machine configuration", .example = "node_l1"};
+    int result = ini_file_read(path, &opts, handler, &L, err, errlen);
+    for (int i = 0; i < L.n && result == 0; i++) {
+        char where[1100];
+        snprintf(where, sizeof where, "%s:%d", path, L.e[i].line);
+        result = apply_entry(cfg, L.e[i].key, L.e[i].value, where, LEVEL_FILE, err, errlen);
     }
     for (int i = 0; i < L.n; i++)
         free(L.e[i].value);

@@ -148,4 +148,12 @@ err=$(RTSIM_DATA_DIR="$tmp/data" "$bin" interior --res 64x36 --rays diffuse --qu
 if echo "$err" | grep -q '^rtsim: progress: cycle [0-9]* (~[0-9]*% of the estimate), [0-9]* rays done, [0-9]*/2304 primaries admitted, [0-9]* s$'; then
   pass rel_progress_lines_without_terminal
 else fail rel_progress_lines_without_terminal "$err"; fi
+# a broken estimate file (read by config/ini_file.h) is a warning naming
+# file:line, the key and the allowed values; the run goes on
+sed -i 's/^overhead.*/overhead = -1/' "$tmp/data/estimate.ini"
+line=$(grep -n '^overhead' "$tmp/data/estimate.ini" | cut -d: -f1)
+err=$(RTSIM_DATA_DIR="$tmp/data" "$bin" interior --res 8x4 --quiet 2>&1 >/dev/null); rc=$?
+if [ $rc -eq 0 ] && echo "$err" | grep -qF "rtsim: warning: no run-time estimate: $tmp/data/estimate.ini:$line: overhead = '-1' invalid, allowed a number > 0"; then
+  pass rel_estimate_bad_file_warns
+else fail rel_estimate_bad_file_warns "exit $rc: $err"; fi
 rm -rf "$tmp"

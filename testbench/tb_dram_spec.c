@@ -139,6 +139,9 @@ int main(void)
 
     expect_file_error("dram_spec_file_syntax_error", mini("this line is not ini\n"), ":12:", "syntax");
     expect_file_error("dram_spec_file_unknown_key", mini("[controller]\nbogus_key = 1\n"), ":13:", "bogus_key");
+    /* the shared INI reader (config/ini_file.h) refuses a key given twice */
+    expect_file_error("dram_spec_file_key_twice", mini("[timing]\nnCL = 14\n"), ":13: timing.nCL given twice",
+                      "(first at line 11)");
     expect_file_error("dram_spec_file_bad_constraint", mini("[constraints]\nrank RD => WR = 13\n"), ":13:",
                       "expected '<scope> <FROM> -> <TO>");
     expect_file_error("dram_spec_file_unknown_command", mini("[constraints]\nrank RD -> XX = 13\n"), ":13:",
@@ -228,6 +231,17 @@ int main(void)
         dram_power_spec q;
         TB_CHECK(path && dram_power_spec_load(&q, path, err, sizeof err) != 0, "accepted");
         TB_CHECK(strstr(err, ":3:") && strstr(err, "vdd1") && strstr(err, "allowed"), "message '%s'", err);
+        if (path)
+            unlink(path);
+    }
+    tb_end();
+
+    tb_begin("dram_power_spec_unknown_key_lists_allowed");
+    {
+        const char *path = temp_file("[memspec]\nclk_mhz = 800\nvdd3 = 1.8\n");
+        dram_power_spec q;
+        TB_CHECK(path && dram_power_spec_load(&q, path, err, sizeof err) != 0, "accepted");
+        TB_CHECK(strstr(err, ":3: unknown key 'vdd3' in [memspec] (allowed clk_mhz, vdd1, vdd2, "), "message '%s'", err);
         if (path)
             unlink(path);
     }

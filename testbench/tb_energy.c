@@ -151,7 +151,16 @@ static void test_load_errors(void)
     TB_CHECK(strstr(err, ":2:") && strstr(err, "cache|ram"), "%s", err);
     write_file(s, "[a]\ncolour = red\n");
     TB_EQ_INT(energy_table_load(&t, s, f, err, sizeof err), -1);
-    TB_CHECK(strstr(err, "unknown key 'colour'"), "%s", err);
+    TB_CHECK(strstr(err, "unknown key 'colour' in [a] (allowed kind, size,"), "%s", err);
+    tb_end();
+
+    /* the shared INI reader (config/ini_file.h): a key given twice, a folder */
+    tb_begin("energy_table_key_twice_and_folder");
+    write_file(s, "[a]\nkind = ram\nsize = 1024\nkind = cache\n");
+    TB_EQ_INT(energy_table_load(&t, s, f, err, sizeof err), -1);
+    TB_CHECK(strstr(err, "bad_sram.ini:4: a.kind given twice (first at line 2)"), "%s", err);
+    TB_EQ_INT(energy_table_load(&t, tmpdir, f, err, sizeof err), -1);
+    TB_CHECK(strstr(err, "is a folder, not an SRAM energy table (.ini) file"), "%s", err);
     tb_end();
 
     tb_begin("energy_table_fpu_missing_key");

@@ -1,12 +1,10 @@
 /* dram_energy.c — DRAMPower-method energy (dram_energy.h). */
 #include "model/dram/dram_energy.h"
 
-#include <errno.h>
-#include <ini.h>
+#include "config/ini_file.h"
+
 #include <stdio.h>
-#include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 typedef struct pkey {
     const char *name;
@@ -29,80 +27,38 @@ static const pkey pkeys[] = {
 
 typedef struct ploader {
     dram_power_spec *p;
-    const char *path;
-    FILE *f;
-    int line, failed;
+    const char *names[NPKEYS]; /* of pkeys, for ini_file_key_index */
     int seen[NPKEYS];
-    char *err;
-    size_t errlen;
 } ploader;
 
-static char *preader(char *str, int num, void *stream)
-{
-    ploader *L = stream;
-    char *r = fgets(str, num, L->f);
-    if (r)
-        L->line++;
-    return r;
-}
-
-static int phandler(void *user, const char *section, const char *name, const char *value)
+static int phandler(ini_file *f, void *user, const char *section, const char *name, const char *value)
 {
     ploader *L = user;
-    if (strcmp(section, "memspec") != 0) {
-        snprintf(L->err, L->errlen, "%s:%d: unknown section [%s] (expected [memspec])", L->path, L->line, section);
-        L->failed = 1;
-        return 0;
-    }
-    for (int i = 0; i < NPKEYS; i++) {
-        if (strcmp(pkeys[i].name, name) != 0)
-            continue;
-        char *end;
-        errno = 0;
-        double v = strtod(value, &end);
-        /* !(in range) rather than (below || above): NaN compares false both ways */
-        if (errno || end == value || *end || !(v >= pkeys[i].lo && v <= pkeys[i].hi) ||
-            (pkeys[i].is_int && v != (double)(long)v)) {
-            snprintf(L->err, L->errlen, "%s:%d: %s = '%s' invalid, allowed %s %g..%g", L->path, L->line, name, value,
-                     pkeys[i].is_int ? "integer" : "number", pkeys[i].lo, pkeys[i].hi);
-            L->failed = 1;
-            return 0;
-        }
-        if (pkeys[i].is_int)
-            *(int *)((char *)L->p + pkeys[i].off) = (int)v;
-        else
-            *(double *)((char *)L->p + pkeys[i].off) = v;
-        L->seen[i] = 1;
-        return 1;
-    }
-    snprintf(L->err, L->errlen, "%s:%d: unknown key '%s' in [memspec]", L->path, L->line, name);
-    L->failed = 1;
+    const int i = ini_file_key_index(f, section, name, L->names, NPKEYS);
+    if (i < 0)
+        return -1;
+    double v;
+    if (ini_file_number(value, &v) || !(v >= pkeys[i].lo && v <= pkeys[i].hi) ||
+        (pkeys[i].is_int && v != (double)(long)v))
+        return ini_file_error(f, "%s = '%s' invalid, allowed %s %g..%g", name, value,
+                              pkeys[i].is_int ? "integer" : "number", pkeys[i].lo, pkeys[i].hi);
+    if (pkeys[i].is_int)
+        *(int *)((char *)L->p + pkeys[i].off) = (int)v;
+    else
+        *(double *)((char *)L->p + pkeys[i].off) = v;
+    L->seen[i] = 1;
     return 0;
 }
 
 int dram_power_spec_load(dram_power_spec *p, const char *path, char *err, size_t errlen)
 {
-    ploader L = {.p = p, .path = path, .err = err, .errlen = errlen};
+    ploader L = {.p = p};
+    for (int i = 0; i < NPKEYS; i++)
+        L.names[i] = pkeys[i].name;
     memset(p, 0, sizeof *p);
-    L.f = fopen(path, "r");
-    if (!L.f) {
-        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+    static const ini_file_opts opts = {.what = "a DRAM power", .section = "memspec"};
+    if (ini_file_read(path, &opts, phandler, &L, err, errlen))
         return -1;
-    }
-    struct stat st;
-    if (fstat(fileno(L.f), &st) == 0 && S_ISDIR(st.st_mode)) {
-        fclose(L.f);
-        snprintf(err, errlen, "%s: is a folder, not a DRAM power (.ini) file", path);
-        return -1;
-    }
-    int rc = ini_parse_stream(preader, &L, phandler, &L);
-    fclose(L.f);
-    if (L.failed)
-        return -1;
-    if (rc) {
-        snprintf(err, errlen, "%s:%d: syntax error", path, rc);
-        return -1;
-    }
     for (int i = 0; i < NPKEYS; i++)
         if (!L.seen[i]) {
             snprintf(err, errlen, "%s: missing key %s in [memspec] (allowed %g..%g)", path, pkeys[i].name,

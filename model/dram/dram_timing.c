@@ -1,17 +1,17 @@
 /* dram_timing.c — loads a DRAM standard (dram_timing.h) from an INI file with
- * libinih, applies --set overrides, evaluates expressions, validates ranges. */
+ * the shared INI reader (config/ini_file.h), applies --set overrides,
+ * evaluates expressions, validates ranges. */
 #include "model/dram/dram_timing.h"
 
+#include "config/ini_file.h"
 #include "model/dram/dram_addrmap.h"
 
 #include <ctype.h>
 #include <errno.h>
-#include <ini.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 const char *const dram_cmd_name[DRAM_NCMD] = {"ACT", "PRE", "PREA", "RD", "WR", "REF"};
 const char *const dram_scope_name[DRAM_NSCOPE] = {"channel", "rank", "bank", "sibling"};
@@ -39,8 +39,6 @@ typedef struct entry {
 
 typedef struct loader {
     const char *path;
-    FILE *f;
-    int line;          /* lines read so far (inih calls the reader once per line) */
     entry e[MAX_ENTRIES];
     int n;
     char *err;
@@ -70,38 +68,22 @@ static const char *where(const loader *L, const entry *e, char *buf, size_t n)
     return buf;
 }
 
-static char *reader(char *str, int num, void *stream)
-{
-    loader *L = stream;
-    char *r = fgets(str, num, L->f);
-    if (r)
-        L->line++;
-    return r;
-}
-
-static int handler(void *user, const char *section, const char *name, const char *value)
+/* Keeps the file's entries (ini_file refuses a key given twice); --set
+ * overrides and the evaluation come after the whole file has read. */
+static int handler(ini_file *f, void *user, const char *section, const char *name, const char *value)
 {
     loader *L = user;
-    if (L->n == MAX_ENTRIES) {
-        fail(L, "%s:%d: too many entries (at most %d)", L->path, L->line, MAX_ENTRIES);
-        return 0;
-    }
-    if (strlen(section) >= DRAM_NAME_LEN || strlen(name) >= sizeof L->e[0].key || strlen(value) >= VAL_LEN) {
-        fail(L, "%s:%d: section, key or value too long", L->path, L->line);
-        return 0;
-    }
-    for (int i = 0; i < L->n; i++)
-        if (strcmp(L->e[i].section, section) == 0 && strcmp(L->e[i].key, name) == 0) {
-            fail(L, "%s:%d: key [%s] %s already defined at line %d", L->path, L->line, section, name, L->e[i].line);
-            return 0;
-        }
+    if (L->n == MAX_ENTRIES)
+        return ini_file_error(f, "too many entries (at most %d)", MAX_ENTRIES);
+    if (strlen(section) >= DRAM_NAME_LEN || strlen(name) >= sizeof L->e[0].key || strlen(value) >= VAL_LEN)
+        return ini_file_error(f, "section, key or value too long");
     entry *e = &L->e[L->n++];
     snprintf(e->section, sizeof e->section, "%s", section);
     snprintf(e->key, sizeof e->key, "%s", name);
     snprintf(e->value, sizeof e->value, "%s", value);
-    e->line = L->line;
+    e->line = ini_file_line(f);
     e->set = NULL;
-    return 1;
+    return 0;
 }
 
 /* ---- integer expressions: sum of products of integers, names, parentheses ---- */
@@ -412,26 +394,9 @@ static int read_entries(loader *L, const char *path, const char *const *sets, co
     L->err = err;
     L->errlen = errlen;
     err[0] = 0;
-    L->f = fopen(path, "r");
-    if (!L->f) {
-        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+    static const ini_file_opts opts = {.what = "a DRAM parameter", .example = "organization"};
+    if (ini_file_read(path, &opts, handler, L, err, errlen))
         return -1;
-    }
-    /* a folder reads as empty: it was reported as "missing key" (issue 15) */
-    struct stat st;
-    if (fstat(fileno(L->f), &st) == 0 && S_ISDIR(st.st_mode)) {
-        fclose(L->f);
-        snprintf(err, errlen, "%s: is a folder, not a DRAM parameter (.ini) file", path);
-        return -1;
-    }
-    int rc = ini_parse_stream(reader, L, handler, L);
-    fclose(L->f);
-    if (L->failed)
-        return -1;
-    if (rc != 0) {
-        snprintf(err, errlen, "%s:%d: syntax error (expected [section] or key = value)", path, rc > 0 ? rc : L->line);
-        return -1;
-    }
     for (int i = 0; i < nsets; i++)
         if (apply_set(L, sets[i], origins ? origins[i] : NULL))
             return -1;

@@ -1,8 +1,8 @@
 /* energy_table.c — SRAM and FPU figures and the matching rule (see energy_table.h). */
 #include "model/energy/energy_table.h"
 
-#include <errno.h>
-#include <ini.h>
+#include "config/ini_file.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -16,88 +16,56 @@
 
 typedef struct loader {
     energy_table *t;
-    FILE *f;
-    const char *path;
-    int line;
-    int is_fpu;
     unsigned seen[ENERGY_MAX_ROWS]; /* bit per SRAM key below */
     unsigned fpu_seen;
-    char *err;
-    size_t errlen;
-    int failed;
 } loader;
-
-/* The line-counting reader lets messages name file:line (inih's handler
- * does not get the line number). */
-static char *count_reader(char *str, int num, void *stream)
-{
-    loader *L = stream;
-    char *s = fgets(str, num, L->f);
-    if (s)
-        L->line++;
-    return s;
-}
 
 static const char *const sram_keys[] = {"kind", "size", "ways", "line", "ports", "area", "read", "write", "leak"};
 #define N_SRAM_KEYS 9
 
-static int fail(loader *L, const char *fmt, const char *a, const char *b)
+static int parse_positive(ini_file *f, const char *name, const char *value, double *out)
 {
-    char msg[256];
-    snprintf(msg, sizeof msg, fmt, a, b);
-    snprintf(L->err, L->errlen, "%s:%d: %s", L->path, L->line, msg);
-    L->failed = 1;
+    double v;
+    if (ini_file_number(value, &v) || !(v > 0 && v < 1e12))
+        return ini_file_error(f, "%s = '%s' invalid, allowed a number > 0", name, value);
+    *out = v;
     return 0;
 }
 
-static int parse_positive(loader *L, const char *name, const char *value, double *out)
-{
-    char *end;
-    errno = 0;
-    double v = strtod(value, &end);
-    if (errno || end == value || *end || !(v > 0 && v < 1e12))
-        return fail(L, "%s = '%s' invalid, allowed a number > 0", name, value);
-    *out = v;
-    return 1;
-}
-
-static int multiport_handler(loader *L, const char *name, const char *value)
+static int multiport_handler(ini_file *f, loader *L, const char *name, const char *value)
 {
     energy_multiport *m = &L->t->mp;
     static const char *const keys[] = {"ports", "area", "read", "write", "leak"};
     double *dst[] = {&m->p0, &m->area, &m->read, &m->write, &m->leak};
-    for (int k = 0; k < 5; k++)
-        if (!strcmp(name, keys[k]))
-            return parse_positive(L, name, value, dst[k]);
-    return fail(L, "unknown key '%s' in [multiport] (allowed ports, area, read, write, leak)%s", name, "");
+    const int k = ini_file_key_index(f, "multiport", name, keys, 5);
+    return k < 0 ? -1 : parse_positive(f, name, value, dst[k]);
 }
 
-static int sram_handler(loader *L, const char *section, const char *name, const char *value)
+static int sram_handler(ini_file *f, void *user, const char *section, const char *name, const char *value)
 {
+    loader *L = user;
     energy_table *t = L->t;
     if (!strcmp(section, "multiport"))
-        return multiport_handler(L, name, value);
+        return multiport_handler(f, L, name, value);
     int r = t->nrows - 1;
     if (r < 0 || strcmp(t->rows[r].name, section) != 0) {
         for (int i = 0; i < t->nrows; i++)
             if (strcmp(t->rows[i].name, section) == 0)
-                return fail(L, "section [%s] appears twice%s", section, "");
+                return ini_file_error(f, "section [%s] appears twice", section);
         if (t->nrows == ENERGY_MAX_ROWS)
-            return fail(L, "more than %s rows (section [%s])", "64", section);
+            return ini_file_error(f, "more than %d rows (section [%s])", ENERGY_MAX_ROWS, section);
         if (strlen(section) >= sizeof t->rows[0].name)
-            return fail(L, "section name [%s] longer than %s characters", section, "47");
+            return ini_file_error(f, "section name [%s] longer than %d characters", section,
+                                  (int)sizeof t->rows[0].name - 1);
         r = t->nrows++;
         memset(&t->rows[r], 0, sizeof t->rows[r]);
         snprintf(t->rows[r].name, sizeof t->rows[r].name, "%s", section);
         L->seen[r] = 0;
     }
     energy_sram *row = &t->rows[r];
-    int k;
-    for (k = 0; k < N_SRAM_KEYS; k++)
-        if (strcmp(sram_keys[k], name) == 0)
-            break;
-    if (k == N_SRAM_KEYS)
-        return fail(L, "unknown key '%s' (allowed kind, size, ways, line, ports, area, read, write, leak)%s", name, "");
+    const int k = ini_file_key_index(f, section, name, sram_keys, N_SRAM_KEYS);
+    if (k < 0)
+        return -1;
     L->seen[r] |= 1u << k;
     switch (k) {
     case 0:
@@ -106,69 +74,38 @@ static int sram_handler(loader *L, const char *section, const char *name, const 
         else if (strcmp(value, "ram") == 0)
             row->kind = ENERGY_RAM;
         else
-            return fail(L, "kind = '%s' invalid, allowed cache|ram%s", value, "");
-        return 1;
+            return ini_file_error(f, "kind = '%s' invalid, allowed cache|ram", value);
+        return 0;
     case 4:
         if (strcmp(value, "1rw") == 0)
             row->ports = ENERGY_1RW;
         else if (strcmp(value, "1r1w") == 0)
             row->ports = ENERGY_1R1W;
         else
-            return fail(L, "ports = '%s' invalid, allowed 1rw|1r1w%s", value, "");
-        return 1;
-    case 1: return parse_positive(L, name, value, &row->size);
-    case 2: return parse_positive(L, name, value, &row->ways);
-    case 3: return parse_positive(L, name, value, &row->line);
-    case 5: return parse_positive(L, name, value, &row->area_mm2);
-    case 6: return parse_positive(L, name, value, &row->read_nj);
-    case 7: return parse_positive(L, name, value, &row->write_nj);
-    default: return parse_positive(L, name, value, &row->leak_mw);
+            return ini_file_error(f, "ports = '%s' invalid, allowed 1rw|1r1w", value);
+        return 0;
+    case 1: return parse_positive(f, name, value, &row->size);
+    case 2: return parse_positive(f, name, value, &row->ways);
+    case 3: return parse_positive(f, name, value, &row->line);
+    case 5: return parse_positive(f, name, value, &row->area_mm2);
+    case 6: return parse_positive(f, name, value, &row->read_nj);
+    case 7: return parse_positive(f, name, value, &row->write_nj);
+    default: return parse_positive(f, name, value, &row->leak_mw);
     }
 }
 
 static const char *const fpu_keys[] = {"energy_pj_per_flop", "area_mm2_per_flop_unit", "leak_mw_per_flop_unit"};
 
-static int fpu_handler(loader *L, const char *section, const char *name, const char *value)
-{
-    if (strcmp(section, "fpu") != 0)
-        return fail(L, "unknown section [%s] (expected [fpu])%s", section, "");
-    double *dst[] = {&L->t->fpu.energy_pj_per_flop, &L->t->fpu.area_mm2_per_flop_unit,
-                     &L->t->fpu.leak_mw_per_flop_unit};
-    for (int k = 0; k < 3; k++)
-        if (strcmp(fpu_keys[k], name) == 0) {
-            L->fpu_seen |= 1u << k;
-            return parse_positive(L, name, value, dst[k]);
-        }
-    return fail(L, "unknown key '%s' in [fpu] (allowed energy_pj_per_flop, area_mm2_per_flop_unit, "
-                   "leak_mw_per_flop_unit)%s", name, "");
-}
-
-static int handler(void *user, const char *section, const char *name, const char *value)
+static int fpu_handler(ini_file *f, void *user, const char *section, const char *name, const char *value)
 {
     loader *L = user;
-    if (L->failed)
-        return 0;
-    return L->is_fpu ? fpu_handler(L, section, name, value) : sram_handler(L, section, name, value);
-}
-
-static int parse_file(loader *L, const char *path)
-{
-    L->path = path;
-    L->line = 0;
-    L->f = fopen(path, "r");
-    if (!L->f) {
-        snprintf(L->err, L->errlen, "%s: cannot open: %s", path, strerror(errno));
+    double *dst[] = {&L->t->fpu.energy_pj_per_flop, &L->t->fpu.area_mm2_per_flop_unit,
+                     &L->t->fpu.leak_mw_per_flop_unit};
+    const int k = ini_file_key_index(f, section, name, fpu_keys, 3);
+    if (k < 0)
         return -1;
-    }
-    int rc = ini_parse_stream(count_reader, L, handler, L);
-    fclose(L->f);
-    if (L->failed)
-        return -1;
-    if (rc) {
-        snprintf(L->err, L->errlen, "%s:%d: syntax error", path, rc);
-        return -1;
-    }
-    return 0;
+    L->fpu_seen |= 1u << k;
+    return parse_positive(f, name, value, dst[k]);
 }
 
 int energy_table_load(energy_table *t, const char *sram_path, const char *fpu_path, char *err, size_t errlen)
@@ -176,8 +113,9 @@ int energy_table_load(energy_table *t, const char *sram_path, const char *fpu_pa
     memset(t, 0, sizeof *t);
     snprintf(t->sram_path, sizeof t->sram_path, "%s", sram_path);
     snprintf(t->fpu_path, sizeof t->fpu_path, "%s", fpu_path);
-    loader L = {.t = t, .err = err, .errlen = errlen};
-    if (parse_file(&L, sram_path))
+    loader L = {.t = t};
+    static const ini_file_opts sram_opts = {.what = "an SRAM energy table", .example = "l1node_bvh"};
+    if (ini_file_read(sram_path, &sram_opts, sram_handler, &L, err, errlen))
         return -1;
     if (t->nrows == 0) {
         snprintf(err, errlen, "%s: no SRAM rows", sram_path);
@@ -197,8 +135,8 @@ int energy_table_load(energy_table *t, const char *sram_path, const char *fpu_pa
                 return -1;
             }
     }
-    L.is_fpu = 1;
-    if (parse_file(&L, fpu_path))
+    static const ini_file_opts fpu_opts = {.what = "an FPU energy table", .section = "fpu"};
+    if (ini_file_read(fpu_path, &fpu_opts, fpu_handler, &L, err, errlen))
         return -1;
     for (int k = 0; k < 3; k++)
         if (!(L.fpu_seen >> k & 1)) {

@@ -96,8 +96,9 @@ int cache_core_check_params(const cache_params *p, const char *s, char *err, siz
     if (p->index_addressed) {
         /* the word is a node (N x 32 B): any whole number of sets */
         if (!pow2(p->size_bytes) || p->line_bytes < 16 || p->line_bytes % 16) {
-            snprintf(err, errlen, "%s.size = %u must be a power of two (index-addressed, %u-byte words)", s,
-                     p->size_bytes, p->line_bytes);
+            snprintf(err, errlen,
+                     "%s.size = %u must be a power of two (index-addressed, %u-byte words; a word is a multiple of 16)",
+                     s, p->size_bytes, p->line_bytes);
             return -1;
         }
         if (p->ways == 0 || p->banks == 0 || !pow2(p->banks) || p->size_bytes < per_set) {

@@ -9,6 +9,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "model/accel_config.h"
+#include "model/mem/memsys_config.h"
 #include "model/ray/ist.h"
 #include "model/ray/ist_core.h"
 #include "model/ray/scheduler.h"
@@ -496,6 +498,22 @@ static void test_trv_ist_tiny_occlusion(void)
     tb_end();
 }
 
+/* The ray-side FIFO table names each FIFO's key; the [fifo] schema defines
+ * it: every key the table names must be one the schema registers. */
+static void test_ray_fifo_table_keys(void)
+{
+    tb_begin("ray_fifo_table_keys_are_schema_keys");
+    char err[300];
+    rtcfg *cfg = rtcfg_create();
+    TB_CHECK(cfg && memsys_add_schemas(cfg, err, sizeof err) == 0 && accel_add_schemas(cfg, err, sizeof err) == 0,
+             "schemas: %s", err);
+    for (int i = 0; cfg && i < ACCEL_FIFO_COUNT; i++)
+        TB_CHECK(rtcfg_has(cfg, accel_ray_fifos[i].key), "%s: key %s not in the [fifo] schema",
+                 accel_ray_fifos[i].name, accel_ray_fifos[i].key);
+    rtcfg_destroy(cfg);
+    tb_end();
+}
+
 static void test_module_tables(void)
 {
     tb_begin("module_description_tables_valid");
@@ -530,5 +548,6 @@ int main(void)
     test_trv_ist_tiny();
     test_trv_ist_tiny_occlusion();
     test_module_tables();
+    test_ray_fifo_table_keys();
     return tb_finish();
 }

@@ -1,6 +1,7 @@
 /* fixed_mem.c — fixed-latency, bandwidth-limited memory; see fixed_mem.h. */
 #include "model/mem/fixed_mem.h"
 
+#include <assert.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -79,12 +80,11 @@ static int busy_cb(void *user) { return fixed_mem_busy(user); }
 static void describe_cb(void *user, char *buf, unsigned cap) { fixed_mem_describe(user, buf, cap); }
 
 fixed_mem *fixed_mem_create(ks_sim *sim, ks_clock *clk, const char *name, uint32_t latency, double bytes_per_cycle,
-                            uint32_t max_outstanding, ks_fifo *req_in, ks_fifo *resp_out, char *err, size_t errlen)
+                            uint32_t max_outstanding, char *err, size_t errlen)
 {
     (void)sim;
-    if (!req_in || !resp_out || latency < 1 || max_outstanding < 1 || !(bytes_per_cycle >= 0) ||
-        !isfinite(bytes_per_cycle)) {
-        snprintf(err, errlen, "%s: needs FIFOs, latency >= 1, max_outstanding >= 1, bandwidth >= 0 (got %u, %u, %g)",
+    if (latency < 1 || max_outstanding < 1 || !(bytes_per_cycle >= 0) || !isfinite(bytes_per_cycle)) {
+        snprintf(err, errlen, "%s: needs latency >= 1, max_outstanding >= 1, bandwidth >= 0 (got %u, %u, %g)",
                  name, latency, max_outstanding, bytes_per_cycle);
         return NULL;
     }
@@ -103,13 +103,18 @@ fixed_mem *fixed_mem_create(ks_sim *sim, ks_clock *clk, const char *name, uint32
     m->cap = max_outstanding;
     m->latency = latency;
     m->frac_per_byte = bytes_per_cycle > 0 ? (uint64_t)ceil(FRAC / bytes_per_cycle) : 0;
-    m->req_in = req_in;
-    m->resp_out = resp_out;
     m->proc = ks_clocked_create(clk, name, step, m);
     ks_clocked_set_describe(m->proc, busy_cb, describe_cb);
+    return m;
+}
+
+void fixed_mem_connect(fixed_mem *m, ks_fifo *req_in, ks_fifo *resp_out)
+{
+    assert(req_in && resp_out);
+    m->req_in = req_in;
+    m->resp_out = resp_out;
     ks_clocked_wake_on(m->proc, ks_fifo_ev_written(req_in));
     ks_clocked_wake_on(m->proc, ks_fifo_ev_freed(resp_out));
-    return m;
 }
 
 void fixed_mem_destroy(fixed_mem *m)

@@ -30,8 +30,11 @@ typedef struct fixed_mem fixed_mem;
 
 extern const ks_module_desc fixed_mem_module_desc;
 
+/* Lifecycle: create, connect, register, destroy (docs/design.md). */
 fixed_mem *fixed_mem_create(ks_sim *sim, ks_clock *clk, const char *name, uint32_t latency, double bytes_per_cycle,
-                            uint32_t max_outstanding, ks_fifo *req_in, ks_fifo *resp_out, char *err, size_t errlen);
+                            uint32_t max_outstanding, char *err, size_t errlen);
+/* req_in: fifo<mem_req>; resp_out: fifo<mem_resp>. */
+void fixed_mem_connect(fixed_mem *m, ks_fifo *req_in, ks_fifo *resp_out);
 void fixed_mem_destroy(fixed_mem *m);
 int fixed_mem_register(fixed_mem *m, ks_stats *reg, const char *prefix);
 uint64_t fixed_mem_requests(const fixed_mem *m);

@@ -2,6 +2,7 @@
  * mem_arbiter.h. */
 #include "model/mem/mem_arbiter.h"
 
+#include <assert.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -80,20 +81,13 @@ static int step(void *user, uint64_t cycle)
 static int busy_cb(void *user) { return mem_arbiter_busy(user); }
 static void describe_cb(void *user, char *buf, unsigned cap) { mem_arbiter_describe(user, buf, cap); }
 
-mem_arbiter *mem_arbiter_create(ks_sim *sim, ks_clock *clk, const char *name, int n, ks_fifo *const *req_in,
-                                ks_fifo *const *resp_out, ks_fifo *req_out, ks_fifo *resp_in, char *err,
-                                size_t errlen)
+mem_arbiter *mem_arbiter_create(ks_sim *sim, ks_clock *clk, const char *name, int n, char *err, size_t errlen)
 {
     (void)sim;
-    if (n < 1 || n > 256 || !req_out || !resp_in) {
-        snprintf(err, errlen, "%s: needs 1..256 inputs and both shared FIFOs (got %d)", name, n);
+    if (n < 1 || n > 256) {
+        snprintf(err, errlen, "%s: needs 1..256 inputs (got %d)", name, n);
         return NULL;
     }
-    for (int i = 0; i < n; i++)
-        if (!req_in[i]) {
-            snprintf(err, errlen, "%s: input %d has no request FIFO", name, i);
-            return NULL;
-        }
     mem_arbiter *a = calloc(1, sizeof *a);
     if (!a)
         goto oom;
@@ -107,13 +101,26 @@ mem_arbiter *mem_arbiter_create(ks_sim *sim, ks_clock *clk, const char *name, in
         mem_arbiter_destroy(a);
         goto oom;
     }
+    a->proc = ks_clocked_create(clk, name, step, a);
+    ks_clocked_set_describe(a->proc, busy_cb, describe_cb);
+    return a;
+oom:
+    snprintf(err, errlen, "%s: out of memory", name);
+    return NULL;
+}
+
+void mem_arbiter_connect(mem_arbiter *a, ks_fifo *const *req_in, ks_fifo *const *resp_out, ks_fifo *req_out,
+                         ks_fifo *resp_in)
+{
+    int n = a->n;
+    assert(req_out && resp_in);
+    for (int i = 0; i < n; i++)
+        assert(req_in[i]);
     memcpy(a->req_in, req_in, (size_t)n * sizeof *a->req_in);
     if (resp_out)
         memcpy(a->resp_out, resp_out, (size_t)n * sizeof *a->resp_out);
     a->req_out = req_out;
     a->resp_in = resp_in;
-    a->proc = ks_clocked_create(clk, name, step, a);
-    ks_clocked_set_describe(a->proc, busy_cb, describe_cb);
     for (int i = 0; i < n; i++) {
         ks_clocked_wake_on(a->proc, ks_fifo_ev_written(req_in[i]));
         if (a->resp_out[i])
@@ -121,10 +128,6 @@ mem_arbiter *mem_arbiter_create(ks_sim *sim, ks_clock *clk, const char *name, in
     }
     ks_clocked_wake_on(a->proc, ks_fifo_ev_freed(req_out));
     ks_clocked_wake_on(a->proc, ks_fifo_ev_written(resp_in));
-    return a;
-oom:
-    snprintf(err, errlen, "%s: out of memory", name);
-    return NULL;
 }
 
 void mem_arbiter_destroy(mem_arbiter *a)

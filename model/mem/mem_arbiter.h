@@ -27,11 +27,13 @@ typedef struct mem_arbiter mem_arbiter;
 
 extern const ks_module_desc mem_arbiter_module_desc;
 
+/* Lifecycle: create, connect, register, destroy (docs/design.md). n: the
+ * requesters (1..256). */
+mem_arbiter *mem_arbiter_create(ks_sim *sim, ks_clock *clk, const char *name, int n, char *err, size_t errlen);
 /* req_in[i] / resp_out[i]: per requester (resp_out[i] may be NULL for a
  * requester that never gets responses); req_out / resp_in: the shared side. */
-mem_arbiter *mem_arbiter_create(ks_sim *sim, ks_clock *clk, const char *name, int n, ks_fifo *const *req_in,
-                                ks_fifo *const *resp_out, ks_fifo *req_out, ks_fifo *resp_in, char *err,
-                                size_t errlen);
+void mem_arbiter_connect(mem_arbiter *a, ks_fifo *const *req_in, ks_fifo *const *resp_out, ks_fifo *req_out,
+                         ks_fifo *resp_in);
 void mem_arbiter_destroy(mem_arbiter *a);
 int mem_arbiter_register(mem_arbiter *a, ks_stats *reg, const char *prefix);
 uint64_t mem_arbiter_grants(const mem_arbiter *a, int input);

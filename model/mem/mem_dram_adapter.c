@@ -1,6 +1,7 @@
 /* mem_dram_adapter.c — memory side <-> LPDDR3 port; see mem_dram_adapter.h. */
 #include "model/mem/mem_dram_adapter.h"
 
+#include <assert.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -85,15 +86,11 @@ static void describe_cb(void *user, char *buf, unsigned cap)
 }
 
 mem_dram_adapter *mem_dram_adapter_create(ks_sim *sim, ks_clock *clk, const char *name, uint32_t max_outstanding,
-                                          ks_fifo *mem_in, ks_fifo *mem_out, ks_fifo *dram_req, ks_fifo *dram_resp,
                                           char *err, size_t errlen)
 {
     (void)sim;
-    if (!mem_in || !mem_out || !dram_req || !dram_resp || mem_in->elem_size != sizeof(mem_req) ||
-        mem_out->elem_size != sizeof(mem_resp) || dram_req->elem_size != sizeof(dram_port_req) ||
-        dram_resp->elem_size != sizeof(dram_port_resp) || max_outstanding < 1) {
-        snprintf(err, errlen, "%s: needs fifo<mem_req>, fifo<mem_resp>, fifo<dram_port_req>, fifo<dram_port_resp> "
-                 "and max_outstanding >= 1", name);
+    if (max_outstanding < 1) {
+        snprintf(err, errlen, "%s: needs max_outstanding >= 1", name);
         return NULL;
     }
     mem_dram_adapter *a = calloc(1, sizeof *a);
@@ -112,17 +109,25 @@ mem_dram_adapter *mem_dram_adapter_create(ks_sim *sim, ks_clock *clk, const char
     for (uint32_t i = 0; i < max_outstanding; i++)
         s[i].next_free = i + 1 < max_outstanding ? (int)i + 1 : -1;
     a->free_head = 0;
+    a->proc = ks_clocked_create(clk, name, step, a);
+    ks_clocked_set_describe(a->proc, busy_cb, describe_cb);
+    return a;
+}
+
+void mem_dram_adapter_connect(mem_dram_adapter *a, ks_fifo *mem_in, ks_fifo *mem_out, ks_fifo *dram_req,
+                              ks_fifo *dram_resp)
+{
+    assert(mem_in && mem_out && dram_req && dram_resp && mem_in->elem_size == sizeof(mem_req) &&
+           mem_out->elem_size == sizeof(mem_resp) && dram_req->elem_size == sizeof(dram_port_req) &&
+           dram_resp->elem_size == sizeof(dram_port_resp));
     a->mem_in = mem_in;
     a->mem_out = mem_out;
     a->dram_req = dram_req;
     a->dram_resp = dram_resp;
-    a->proc = ks_clocked_create(clk, name, step, a);
-    ks_clocked_set_describe(a->proc, busy_cb, describe_cb);
     ks_clocked_wake_on(a->proc, ks_fifo_ev_written(mem_in));
     ks_clocked_wake_on(a->proc, ks_fifo_ev_freed(mem_out));
     ks_clocked_wake_on(a->proc, ks_fifo_ev_freed(dram_req));
     ks_clocked_wake_on(a->proc, ks_fifo_ev_written(dram_resp));
-    return a;
 }
 
 void mem_dram_adapter_destroy(mem_dram_adapter *a)

@@ -29,11 +29,14 @@ typedef struct mem_dram_adapter mem_dram_adapter;
 
 extern const ks_module_desc mem_dram_adapter_module_desc;
 
-/* mem_in: fifo<mem_req>, mem_out: fifo<mem_resp>, dram_req: fifo<dram_port_req>,
- * dram_resp: fifo<dram_port_resp> (item sizes are checked). */
+/* Lifecycle: create, connect, register, destroy (docs/design.md). */
 mem_dram_adapter *mem_dram_adapter_create(ks_sim *sim, ks_clock *clk, const char *name, uint32_t max_outstanding,
-                                          ks_fifo *mem_in, ks_fifo *mem_out, ks_fifo *dram_req, ks_fifo *dram_resp,
                                           char *err, size_t errlen);
+/* mem_in/mem_out: fifo<mem_req>/fifo<mem_resp> of the memory side;
+ * dram_req/dram_resp: fifo<dram_port_req>/fifo<dram_port_resp> of the port
+ * (item sizes asserted). */
+void mem_dram_adapter_connect(mem_dram_adapter *a, ks_fifo *mem_in, ks_fifo *mem_out, ks_fifo *dram_req,
+                              ks_fifo *dram_resp);
 void mem_dram_adapter_destroy(mem_dram_adapter *a);
 int mem_dram_adapter_register(mem_dram_adapter *a, ks_stats *reg, const char *prefix);
 uint64_t mem_dram_adapter_requests(const mem_dram_adapter *a);

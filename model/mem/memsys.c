@@ -132,8 +132,9 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
     FIFO(prim_fill, "prim.fill", "fifo.mem_prim_fill", mem_resp, pp.line_bytes);
     FIFO(mem_req_f, "memory.req", "fifo.mem_req", mem_req, 0);
     FIFO(mem_resp_f, "memory.resp", "fifo.mem_resp", mem_resp, mem_line);
-    if (!(ms->l2_arb = mem_arbiter_create(sim, clk, "l2_arbiter", ntrv, l1_miss, l1_fill, l2_req, l2_resp, err, errlen)))
+    if (!(ms->l2_arb = mem_arbiter_create(sim, clk, "l2_arbiter", ntrv, err, errlen)))
         goto fail;
+    mem_arbiter_connect(ms->l2_arb, l1_miss, l1_fill, l2_req, l2_resp);
     if (!(ms->l2 = cache_create(sim, clk, "node_l2", &p2, err, errlen)))
         goto fail;
     cache_connect(ms->l2, l2_miss, l2_fill, l2_req, l2_resp);
@@ -141,16 +142,17 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
         goto fail;
     cache_connect(ms->prim, prim_miss, prim_fill, NULL, NULL);
     ks_fifo *mem_in[2] = {l2_miss, prim_miss}, *mem_out[2] = {l2_fill, prim_fill};
-    if (!(ms->mem_arb = mem_arbiter_create(sim, clk, "mem_arbiter", 2, mem_in, mem_out, mem_req_f, mem_resp_f, err,
-                                           errlen)))
+    if (!(ms->mem_arb = mem_arbiter_create(sim, clk, "mem_arbiter", 2, err, errlen)))
         goto fail;
+    mem_arbiter_connect(ms->mem_arb, mem_in, mem_out, mem_req_f, mem_resp_f);
     uint32_t outstanding = (uint32_t)rtcfg_int(cfg, "memory.max_outstanding");
     if (ms->model == MEMSYS_FIXED) {
         /* GB/s at the accelerator clock: bytes per cycle = GB/s * 1000 / MHz */
         double bpc = rtcfg_real(cfg, "memory.fixed_bandwidth_gbs") * 1000.0 / rtcfg_real(cfg, "machine.clock_mhz");
         if (!(ms->fmem = fixed_mem_create(sim, clk, "memory", (uint32_t)rtcfg_int(cfg, "memory.fixed_latency"), bpc,
-                                          outstanding, mem_req_f, mem_resp_f, err, errlen)))
+                                          outstanding, err, errlen)))
             goto fail;
+        fixed_mem_connect(ms->fmem, mem_req_f, mem_resp_f);
     } else {
         char path[1024], why[400];
         /* the standard file with the [dram] keys of the configuration (memsys_config.h) */
@@ -174,9 +176,9 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
         ks_fifo *dreq, *dresp;
         FIFO(dreq, "dram.req", "fifo.mem_dram_req", dram_port_req, 0);
         FIFO(dresp, "dram.resp", "fifo.mem_dram_resp", dram_port_resp, mem_line);
-        if (!(ms->adapter = mem_dram_adapter_create(sim, clk, "memory", outstanding, mem_req_f, mem_resp_f, dreq, dresp,
-                                                    err, errlen)))
+        if (!(ms->adapter = mem_dram_adapter_create(sim, clk, "memory", outstanding, err, errlen)))
             goto fail;
+        mem_dram_adapter_connect(ms->adapter, mem_req_f, mem_resp_f, dreq, dresp);
         if (!(ms->port = dram_port_create(sim, "dram", ms->spec, ms->power, dreq, dresp, stats, err, errlen)))
             goto fail;
     }

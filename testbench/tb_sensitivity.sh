@@ -12,7 +12,7 @@ rm -rf "$tmp"; mkdir -p "$tmp"
 cd "$(dirname "$0")/.."
 . testbench/cli_lib.sh
 if [ -n "${RTSIM_TB_SANITIZED:-}" ]; then
-  echo "SKIP sensitivity: 58 model runs; the release build covers the script"; exit 0
+  echo "SKIP sensitivity: 62 model runs; the release build covers the script"; exit 0
 fi
 if ! command -v gnuplot >/dev/null; then
   echo "SKIP sensitivity: gnuplot is not installed (scripts/debian-packages.txt lists it)"; exit 0
@@ -21,11 +21,12 @@ scripts/sensitivity --bin "${RTSIM_BIN:?}/rtsim" --scenes interior --rays primar
   --out "$tmp/out" >"$tmp/log" 2>&1
 check sensitivity_runs test $? -eq 0
 n=$(tail -n +2 "$tmp/out/sensitivity.csv" | wc -l)
-# every variant but one: halving the ray FIFOs puts fifo.ray_trv_loop below its
-# deadlock-free minimum, which the validator refuses (reported, not a row)
-check sensitivity_csv_rows test "$n" -eq $(((14 * 2 - 1) * 4))
-check sensitivity_refused_reported grep -q "ray FIFO depths at half: fifo.ray_trv_loop" "$tmp/out/sensitivity.md"
-check sensitivity_md_names_params sh -c "for p in 'L1 MSHRs' 'IST latency' 'ray FIFO depths' 'shade latency'; do grep -q \"| \$p |\" '$tmp/out/sensitivity.md' || exit 1; done"
+# every variant but one (15 parameters): halving the TRV loop FIFO puts it
+# below its deadlock-free minimum, which the validator refuses (reported, not
+# a row); the other ray FIFOs are varied apart from it and measured at half
+check sensitivity_csv_rows test "$n" -eq $(((15 * 2 - 1) * 4))
+check sensitivity_refused_reported grep -q "TRV loop FIFO depth at half: fifo.ray_trv_loop" "$tmp/out/sensitivity.md"
+check sensitivity_md_names_params sh -c "for p in 'L1 MSHRs' 'IST latency' 'ray FIFO depths' 'TRV loop FIFO depth' 'shade latency'; do grep -q \"| \$p |\" '$tmp/out/sensitivity.md' || exit 1; done"
 check sensitivity_md_flip_verdict grep -qE 'flip' "$tmp/out/sensitivity.md"
 h=$(printf 'ist.latency=32' | sha1sum | cut -c1-12)
 check sensitivity_ist_double_run test -s "$tmp/out/runs/interior_primary_mbvh4_8x8_$h.json"

@@ -265,6 +265,14 @@ static inline void cli_run_json_hash(FILE *f, bool has, uint64_t h)
         fputs("null", f);
 }
 
+static inline void cli_run_json_uint(FILE *f, bool has, uint64_t v)
+{
+    if (has)
+        fprintf(f, "%" PRIu64, v);
+    else
+        fputs("null", f);
+}
+
 static inline void cli_run_json_real(FILE *f, bool has, double v)
 {
     if (has)
@@ -313,27 +321,15 @@ static inline void cli_run_write_member(FILE *f, const cli_run_info *ri, const c
     KEY("config_hash");
     cli_run_json_hash(f, ri->has_config_hash, ri->config_hash);
     KEY("width_px");
-    if (ri->width)
-        fprintf(f, "%u", ri->width);
-    else
-        fputs("null", f);
+    cli_run_json_uint(f, ri->width != 0, ri->width);
     KEY("height_px");
-    if (ri->height)
-        fprintf(f, "%u", ri->height);
-    else
-        fputs("null", f);
+    cli_run_json_uint(f, ri->height != 0, ri->height);
     KEY("ray_type");
     cli_run_json_str(f, ri->rays);
     KEY("bounces");
-    if (ri->has_bounces)
-        fprintf(f, "%u", ri->bounces);
-    else
-        fputs("null", f);
+    cli_run_json_uint(f, ri->has_bounces, ri->bounces);
     KEY("seed");
-    if (ri->has_seed)
-        fprintf(f, "%" PRIu64, ri->seed);
-    else
-        fputs("null", f);
+    cli_run_json_uint(f, ri->has_seed, ri->seed);
     KEY("host_cpu_s");
     cli_run_json_real(f, true, host_cpu);
     KEY("host_wall_s");
@@ -343,15 +339,9 @@ static inline void cli_run_write_member(FILE *f, const cli_run_info *ri, const c
     KEY("sim_wall_s");
     cli_run_json_real(f, ri->has_sim, ri->sim_wall_s);
     KEY("sim_jobs");
-    if (ri->has_workers)
-        fprintf(f, "%" PRIu64, ri->jobs);
-    else
-        fputs("null", f);
+    cli_run_json_uint(f, ri->has_workers, ri->jobs);
     KEY("sim_workers");
-    if (ri->has_workers)
-        fprintf(f, "%" PRIu64, ri->workers);
-    else
-        fputs("null", f);
+    cli_run_json_uint(f, ri->has_workers, ri->workers);
     KEY("sim_worker_cpu_s");
     cli_run_json_real(f, ri->has_workers, ri->worker_cpu_s);
     KEY("cycles_per_host_s");

@@ -80,12 +80,25 @@ static int write_all(int fd, const void *buf, size_t len)
     return 0;
 }
 
+/* A piece that calls exit() (a library's fatal error) ends the worker here,
+ * before any other exit handler: those of the parent's libraries may wait
+ * for threads that a forked copy does not have (liblog4cplus, which
+ * OpenImageIO pulls in, waits forever so under ASan), and the output layer's
+ * belong to the parent. Handlers registered later run first (on_exit is
+ * glibc's atexit with the status). */
+static void worker_on_exit(int status, void *arg)
+{
+    (void)arg;
+    _exit(status);
+}
+
 /* The child's side: runs piece i, writes the message and the result, exits
  * without running atexit handlers or flushing the parent's stdio. */
 static void worker_main(int fd, int i, size_t size, ks_pool_fn fn, void *user, pid_t parent)
 {
     signal(SIGINT, SIG_DFL);
     signal(SIGTERM, SIG_DFL);
+    on_exit(worker_on_exit, NULL);
 #ifdef __linux__
     prctl(PR_SET_PDEATHSIG, SIGKILL);
 #endif

@@ -27,7 +27,9 @@
  *    the workers die, the parent stops the rest and reports), dies with its
  *    parent (Linux PR_SET_PDEATHSIG) and ends with _exit: no atexit
  *    handlers run, so the parent's output files (kernel/out_file.h) and
- *    stdio buffers are never touched by a worker.
+ *    stdio buffers are never touched by a worker; a piece that calls
+ *    exit(status) ends its worker at once with _exit(status) (library exit
+ *    handlers in a forked copy may wait for the parent's threads forever).
  *  - Every worker is reaped before ks_pool_run returns, so their CPU time is
  *    in getrusage(RUSAGE_CHILDREN): ks_pool_children_cpu_s().
  * Not thread-safe (one pool at a time per process). */

@@ -2,7 +2,8 @@
  * (kernel/fork_pool.h): results in piece order and the same whatever the
  * number of workers; a worker's other memory writes are lost; the
  * lowest-indexed failure is reported with its message; a worker that dies
- * is reported, not waited for forever; SIGINT to the parent while workers
+ * is reported, not waited for forever, and one that calls exit() leaves the
+ * parent's planned output files alone; SIGINT to the parent while workers
  * run stops them and returns 130; workers' CPU is counted as children's. */
 #include <signal.h>
 #include <string.h>
@@ -10,6 +11,7 @@
 
 #include "kernel/fork_pool.h"
 #include "kernel/interrupt.h"
+#include "kernel/out_file.h"
 #include "testbench/tb.h"
 
 typedef struct piece_res {
@@ -44,6 +46,16 @@ static int dying_piece(void *user, int index, void *result, char *err, size_t er
     memset(result, 0, sizeof(piece_res));
     if (index == 1)
         raise(SIGKILL);
+    return 0;
+}
+
+/* A library's fatal error: exit() runs the atexit handlers in the worker. */
+static int exiting_piece(void *user, int index, void *result, char *err, size_t errlen)
+{
+    (void)user, (void)err, (void)errlen;
+    memset(result, 0, sizeof(piece_res));
+    if (index == 0)
+        exit(3);
     return 0;
 }
 
@@ -106,6 +118,24 @@ int main(void)
     err[0] = 0;
     TB_EQ_INT(ks_pool_run(3, 3, sizeof(piece_res), dying_piece, NULL, got, err, sizeof err), 1);
     TB_CHECK(strstr(err, "(piece 1) was killed by signal 9") != NULL, "message '%s'", err);
+    tb_end();
+
+    tb_begin("pool_worker_exit_keeps_parent_outputs");
+    {
+        char path[256], tmp[300];
+        const char *dir = getenv("RTSIM_TMP") ? getenv("RTSIM_TMP") : "/tmp";
+        snprintf(path, sizeof path, "%s/tb_kernel_fork_pool.%d.json", dir, (int)getpid());
+        snprintf(tmp, sizeof tmp, "%s.tmp.%d", path, (int)getpid());
+        ks_out *o = ks_out_plan("--json", path, err, sizeof err);
+        TB_CHECK(o != NULL, "plan: %s", err);
+        err[0] = 0;
+        TB_EQ_INT(ks_pool_run(2, 2, sizeof(piece_res), exiting_piece, NULL, got, err, sizeof err), 1);
+        TB_CHECK(strstr(err, "(piece 0) exited with status 3") != NULL, "message '%s'", err);
+        TB_CHECK(access(tmp, F_OK) == 0, "the worker's exit removed the parent's temporary %s", tmp);
+        if (o)
+            ks_out_discard(o);
+        TB_CHECK(access(tmp, F_OK) != 0, "%s left after discard", tmp);
+    }
     tb_end();
 
     tb_begin("pool_sigint_stops_workers");

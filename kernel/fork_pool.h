@@ -15,7 +15,9 @@
  *    than its result are lost: the results are the same whatever `jobs`
  *    when fn depends only on its inputs. A result must be plain data;
  *    pointers in it may point only to what parent and child share (string
- *    literals, memory made before the call).
+ *    literals, memory made before the call). A worker has one thread: a
+ *    piece must not rely on a thread pool its library started before the
+ *    fork (rtsim's pieces are single-threaded C: model, tracer traversal).
  *  - Returns 0; else the status of the lowest-indexed failed piece with its
  *    message (after a failure no further piece is started; those running
  *    finish); 1 when a worker died (a crash, killed) or its result was cut

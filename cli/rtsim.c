@@ -17,6 +17,8 @@
 #include "cli/rtsim_estimate.h"
 #include "frame/frame.h"
 #include "fidelity/fidelity.h"
+#include "kernel/fork_pool.h"
+#include "kernel/interrupt.h"
 #include "kernel/stats.h"
 #include "model/accel_config.h"
 #include "model/accel_top.h"
@@ -45,7 +47,12 @@ typedef struct options {
     bool vcd_window_given, quiet, exhaustive, progress;
     int level;                 /* fid_level */
     double accuracy, sample_rate;   /* 0: not given */
+    uint64_t jobs;             /* worker processes at once (--jobs, RTSIM_JOBS, else the CPUs) */
 } options;
+
+/* Most worker processes --jobs and RTSIM_JOBS accept: a sanity bound (a
+ * fidelity run has at most a handful of independent pieces, docs/fidelity.md). */
+#define RTSIM_MAX_JOBS 1024
 
 enum { RAYS_PRIMARY, RAYS_DIFFUSE, RAYS_OCCLUSION };
 static const char *const ray_kinds[] = {"primary", "diffuse", "occlusion", NULL};
@@ -130,6 +137,11 @@ static int parse_options(int argc, char **argv, options *o)
          .help = "pick the cheapest level expected within P% (falls back to full)"},
         {.name = "sample-rate", .kind = CLI_REAL, .to.real = &o->sample_rate, .arg = "R", .lo = 0, .lo_open = true,
          .hi = 1, .help = "sampled: fraction of the pixels modelled ({range}; default 1/16)"},
+        {.name = "jobs", .kind = CLI_UINT, .to.u = &o->jobs, .arg = "N", .min = 1, .max = RTSIM_MAX_JOBS,
+         .help = "fidelity levels: run independent pieces (sample groups, the\n"
+                 "functional pass, pilots) in up to N worker processes at once\n"
+                 "({range}; default RTSIM_JOBS, else the CPUs this process may\n"
+                 "use); the figures are the same whatever N"},
         {0}};
     const cli_tool tool = {
         .name = "rtsim", .opts = table, .synopsis = "usage: rtsim [SCENE]", .width = 93, .indent = 0, .column = 20,
@@ -161,6 +173,13 @@ static int parse_options(int argc, char **argv, options *o)
                                cheaper);
     if (o->heatmap && !rt_image_format_supported(o->heatmap))
         return cli_usage_error(&tool, "--heatmap %s: the file must end in .png or .exr", o->heatmap);
+    if (!o->jobs) {   /* not given: RTSIM_JOBS, else every CPU this process may run on */
+        const char *env = getenv("RTSIM_JOBS");
+        if (env && !cli_parse_u64(env, 1, RTSIM_MAX_JOBS, &o->jobs))
+            return cli_usage_error(&tool, "RTSIM_JOBS=%s: allowed range 1..%d", env, RTSIM_MAX_JOBS);
+        if (!env)
+            o->jobs = (uint64_t)ks_pool_cpus();
+    }
     return CLI_GO_ON;
 }
 
@@ -237,8 +256,10 @@ typedef struct progress_state {
 
 static double wall(void) { return cli_run_clock(CLOCK_MONOTONIC); }
 
-/* CPU time of this process: the run's cost on one core, even on a loaded host. */
-static double cpu(void) { return cli_run_clock(CLOCK_PROCESS_CPUTIME_ID); }
+/* CPU time of this process and of its reaped worker processes (fidelity
+ * levels, kernel/fork_pool.h): the run's whole cost in CPU, even on a loaded
+ * host and however many cores ran it. */
+static double cpu(void) { return cli_run_clock(CLOCK_PROCESS_CPUTIME_ID) + ks_pool_children_cpu_s(); }
 
 static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admitted)
 {
@@ -416,12 +437,20 @@ static int run_fidelity(job *j)
 {
     const options *o = j->o;
     fid_job job = {j->cfg, &j->sc.mesh, j->view, &j->img, j->w, j->h, o->diffuse, (uint32_t)o->bounces, o->seed,
-                   o->sample_rate, NULL, NULL};
+                   o->sample_rate, NULL, NULL, (int)o->jobs};
     fid_outcome fo;
     fill_run(j);
-    double t0 = wall(), c0 = cpu();
+    double t0 = wall(), c0 = cpu(), w0 = ks_pool_children_cpu_s();
+    uint64_t forked0 = ks_pool_workers_forked();
     int rc = fid_run(&job, (fid_level)o->level, o->accuracy, &fo, j->err, sizeof j->err);
-    double host_s = wall() - t0, cpu_s = cpu() - c0;
+    double host_s = wall() - t0, cpu_s = cpu() - c0, worker_s = ks_pool_children_cpu_s() - w0;
+    uint64_t workers = ks_pool_workers_forked() - forked0;
+    if (rc && ks_interrupted()) {
+        /* Ctrl-C while worker processes ran: they are stopped; nothing is written */
+        fprintf(stderr, "rtsim: %s; no output written\n", j->err);
+        fid_outcome_free(&fo);
+        return ks_interrupt_exit_status();
+    }
     if (rc)
         fprintf(stderr, "rtsim: %s\n", j->err);
     if (!o->quiet && (rc == 0 || fo.top)) {
@@ -432,11 +461,17 @@ static int run_fidelity(job *j)
         fid_print_summary(&fo.res, stdout);
         printf("host        %.3f s CPU (%.3f s wall), %.0f K rays/s (CPU)\n", cpu_s, host_s,
                cpu_s > 0 ? fo.rays / cpu_s / 1e3 : 0.0);
+        if (workers)   /* the CPU above is this process's and its workers': say how it splits */
+            printf("workers     %llu processes, up to %llu at once (--jobs): %.3f s of the CPU above, "
+                   "%.2fx the wall time\n",
+                   (unsigned long long)workers, (unsigned long long)o->jobs, worker_s,
+                   host_s > 0 ? cpu_s / host_s : 0.0);
     }
     if (o->json && (rc == 0 || fo.top)) {
         char jhead[4096];
         fid_json_strings(&fo.res, jhead, sizeof jhead);
         j->run->has_sim = true, j->run->sim_cpu_s = cpu_s, j->run->sim_wall_s = host_s;
+        j->run->has_workers = true, j->run->jobs = o->jobs, j->run->workers = workers, j->run->worker_cpu_s = worker_s;
         if (write_json(fid_outcome_stats(&fo), j->run, jhead, j->outs[0].out, NULL, j->err, sizeof j->err)) {
             fprintf(stderr, "rtsim: %s\n", j->err);
             rc = rc ? rc : 2;
@@ -568,6 +603,7 @@ static int run_full(job *j)
     fill_run(j);
     j->run->rays = o->occlusion ? "occlusion" : j->run->rays;
     j->run->has_sim = true, j->run->sim_cpu_s = cpu_s, j->run->sim_wall_s = host_s;
+    j->run->has_workers = true, j->run->jobs = o->jobs;   /* the full model: one process */
     j->run->has_cycles = true, j->run->cycles = accel_top_cycles(j->top);
     if (o->json &&
         write_json(accel_top_stats(j->top), j->run, jhead, j->outs[0].out, sig ? reason : NULL, j->err, sizeof j->err)) {

@@ -34,6 +34,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -67,6 +68,11 @@ typedef struct cli_run_info {
     double sim_cpu_s, sim_wall_s;
     bool has_cycles;
     uint64_t cycles;
+    /* worker processes (rtsim's fidelity levels, kernel/fork_pool.h): the
+     * --jobs limit, how many ran, and their CPU (part of sim_cpu_s) */
+    bool has_workers;
+    uint64_t jobs, workers;
+    double worker_cpu_s;
 } cli_run_info;
 
 static inline double cli_run_clock(clockid_t id)
@@ -74,6 +80,18 @@ static inline double cli_run_clock(clockid_t id)
     struct timespec ts;
     clock_gettime(id, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* CPU seconds of this process and of its reaped children (rtsim's worker
+ * processes): what the host_cpu_s key counts. */
+static inline double cli_run_cpu(void)
+{
+    struct rusage ru;
+    double children = 0;
+    if (getrusage(RUSAGE_CHILDREN, &ru) == 0)
+        children = (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec + (double)ru.ru_stime.tv_sec +
+                   1e-6 * (double)ru.ru_stime.tv_usec;
+    return cli_run_clock(CLOCK_PROCESS_CPUTIME_ID) + children;
 }
 
 /* ri should be static in main: its copy of argv lives until exit. */
@@ -93,7 +111,7 @@ static inline void cli_run_init(cli_run_info *ri, const char *tool, int argc, ch
     if (gmtime_r(&now, &tm))
         strftime(ri->date, sizeof ri->date, "%Y-%m-%dT%H:%M:%SZ", &tm);
     ri->wall0 = cli_run_clock(CLOCK_MONOTONIC);
-    ri->cpu0 = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID);
+    ri->cpu0 = cli_run_cpu();
 }
 
 /* ---- hashes ---- */
@@ -247,6 +265,14 @@ static inline void cli_run_json_hash(FILE *f, bool has, uint64_t h)
         fputs("null", f);
 }
 
+static inline void cli_run_json_uint(FILE *f, bool has, uint64_t v)
+{
+    if (has)
+        fprintf(f, "%" PRIu64, v);
+    else
+        fputs("null", f);
+}
+
 static inline void cli_run_json_real(FILE *f, bool has, double v)
 {
     if (has)
@@ -259,7 +285,7 @@ static inline void cli_run_json_real(FILE *f, bool has, double v)
 static inline void cli_run_write_member(FILE *f, const cli_run_info *ri, const char *sep)
 {
     double host_wall = cli_run_clock(CLOCK_MONOTONIC) - ri->wall0;
-    double host_cpu = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID) - ri->cpu0;
+    double host_cpu = cli_run_cpu() - ri->cpu0;
 #define KEY(k) fprintf(f, "%s%s\"" k "\": ", first ? "" : ",", sep), first = false
     bool first = true;
     fputs("\"run\": {", f);
@@ -295,27 +321,15 @@ static inline void cli_run_write_member(FILE *f, const cli_run_info *ri, const c
     KEY("config_hash");
     cli_run_json_hash(f, ri->has_config_hash, ri->config_hash);
     KEY("width_px");
-    if (ri->width)
-        fprintf(f, "%u", ri->width);
-    else
-        fputs("null", f);
+    cli_run_json_uint(f, ri->width != 0, ri->width);
     KEY("height_px");
-    if (ri->height)
-        fprintf(f, "%u", ri->height);
-    else
-        fputs("null", f);
+    cli_run_json_uint(f, ri->height != 0, ri->height);
     KEY("ray_type");
     cli_run_json_str(f, ri->rays);
     KEY("bounces");
-    if (ri->has_bounces)
-        fprintf(f, "%u", ri->bounces);
-    else
-        fputs("null", f);
+    cli_run_json_uint(f, ri->has_bounces, ri->bounces);
     KEY("seed");
-    if (ri->has_seed)
-        fprintf(f, "%" PRIu64, ri->seed);
-    else
-        fputs("null", f);
+    cli_run_json_uint(f, ri->has_seed, ri->seed);
     KEY("host_cpu_s");
     cli_run_json_real(f, true, host_cpu);
     KEY("host_wall_s");
@@ -324,6 +338,12 @@ static inline void cli_run_write_member(FILE *f, const cli_run_info *ri, const c
     cli_run_json_real(f, ri->has_sim, ri->sim_cpu_s);
     KEY("sim_wall_s");
     cli_run_json_real(f, ri->has_sim, ri->sim_wall_s);
+    KEY("sim_jobs");
+    cli_run_json_uint(f, ri->has_workers, ri->jobs);
+    KEY("sim_workers");
+    cli_run_json_uint(f, ri->has_workers, ri->workers);
+    KEY("sim_worker_cpu_s");
+    cli_run_json_real(f, ri->has_workers, ri->worker_cpu_s);
     KEY("cycles_per_host_s");
     cli_run_json_real(f, ri->has_sim && ri->has_cycles, ri->sim_cpu_s > 0 ? (double)ri->cycles / ri->sim_cpu_s : 0.0);
     KEY("date");

@@ -8,6 +8,7 @@
 
 #include "frame/frame.h"
 #include "fidelity/fidelity_params.h"
+#include "kernel/fork_pool.h"
 #include "fidelity/functional.h"
 #include "model/mem/memsys_config.h"
 
@@ -501,6 +502,54 @@ static void functional_errors(const fid_func *f, fid_result *r)
     }
 }
 
+/* ---- independent pieces (kernel/fork_pool.h) ----------------------------
+ * The frame's functional pass, each sample group and the functional level's
+ * energy pilot depend on nothing but the job: they run as pieces, in worker
+ * processes when job->jobs > 1, and hand back plain data (fid_func.bound
+ * points to a string literal, shared after fork). The caller combines them
+ * in piece order, so the figures do not depend on job->jobs. */
+
+/* What one piece hands back. */
+typedef struct fid_piece {
+    model_fig m;                  /* the cycle model on the piece's pixels (not for the frame pass) */
+    fid_func f;                   /* the functional pass on the same pixels (the frame's for the frame pass) */
+    uint32_t pixels;              /* pixels of the piece; 0: an empty group, nothing run */
+} fid_piece;
+
+/* Which pieces: [the frame's functional pass], then `groups` disjoint sets
+ * of row bands of the given period (period <= 1 with one group: the whole
+ * frame). */
+typedef struct piece_plan {
+    const fid_job *job;
+    bool frame_pass;
+    uint32_t period, groups;
+} piece_plan;
+
+static int run_piece(void *user, int index, void *result, char *err, size_t errlen)
+{
+    const piece_plan *pl = user;
+    const fid_job *job = pl->job;
+    fid_piece *r = result;
+    memset(r, 0, sizeof *r);
+    if (pl->frame_pass && index == 0)
+        return fid_functional_run(job, NULL, 0, &r->f, err, errlen) ? 2 : 0;
+    uint32_t g = (uint32_t)index - (pl->frame_pass ? 1u : 0u), n = job->width * job->height;
+    uint32_t *px = NULL;
+    if ((pl->period > 1 || pl->groups > 1) && !(px = band_subset(job, pl->period, g, pl->groups, &n))) {
+        snprintf(err, errlen, "out of memory");
+        return 2;
+    }
+    r->pixels = n;
+    int rc = 0;
+    if (n > 0) {
+        rc = run_model(job, job->cfg, px, px ? n : 0, &r->m, NULL, err, errlen);
+        if (rc == 0 && fid_functional_run(job, px, n, &r->f, err, errlen))
+            rc = 2;
+    }
+    free(px);
+    return rc;
+}
+
 /* Energy of a frame from a cycle-model sample and the functional counts of
  * sample and frame: dynamic energy scales with the work (visits + triangle
  * tests), DRAM energy with DRAM bytes, static energy with the time. */
@@ -520,24 +569,29 @@ static int run_functional(const fid_job *job, fid_outcome *o, fid_func *ff, char
     const fid_params *fp = fid_params_get();
     fid_result *r = &o->res;
     r->level = FID_FUNCTIONAL;
-    if (fid_functional_run(job, NULL, 0, ff, err, errlen))
+    /* two independent pieces: the frame's functional pass and the energy
+     * pilot (a small cycle-model run scaled by the functional counts) */
+    piece_plan plan = {job, true, pilot_period(job, fp->pilot_fraction / 4), 1};
+    fid_piece *pc = calloc(2, sizeof *pc);
+    if (!pc) {
+        snprintf(err, errlen, "out of memory");
         return 2;
+    }
+    int rc = ks_pool_run(2, job->jobs, sizeof *pc, run_piece, &plan, pc, err, errlen);
+    if (rc) {
+        free(pc);
+        return rc;
+    }
+    *ff = pc[0].f;
+    const model_fig m = pc[1].m;
+    const fid_func fs = pc[1].f;
+    const uint32_t pilot_pixels = pc[1].pixels;
+    free(pc);
     fid_own *w = o->own;
     own_from_func(w, ff);
     w->cycles = (uint64_t)ff->cycles;
     w->dram_bytes = ff->dram_bytes;
     functional_errors(ff, r);
-    /* energy: a small cycle-model pilot scaled by the functional counts */
-    uint32_t period = pilot_period(job, fp->pilot_fraction / 4), n = 0;
-    uint32_t *px = period > 1 ? band_subset(job, period, 0, 1, &n) : NULL;
-    model_fig m;
-    fid_func fs;
-    int rc = run_model(job, job->cfg, px, n, &m, NULL, err, errlen);
-    if (rc == 0 && fid_functional_run(job, px, px ? n : job->width * job->height, &fs, err, errlen))
-        rc = 2;
-    free(px);
-    if (rc)
-        return rc;
     double sec = ff->cycles / (ff->clock_mhz * 1e6);
     w->energy_mj = energy_ratio(&m, &fs, ff, sec);
     /* the energy's static part follows the time: the MRPS error carries over */
@@ -546,8 +600,7 @@ static int run_functional(const fid_job *job, fid_outcome *o, fid_func *ff, char
     snprintf(r->detail, sizeof r->detail,
              "functional: %s-bound (TRV %.0f, IST %.0f, DRAM %.0f, latency %.0f cycles; runner-up %.0f%% of it); "
              "energy from a cycle-model pilot on %u pixels",
-             ff->bound, ff->cyc_trv, ff->cyc_ist, ff->cyc_dram, ff->cyc_lat, 100.0 * ff->runner_up,
-             px ? n : job->width * job->height);
+             ff->bound, ff->cyc_trv, ff->cyc_ist, ff->cyc_dram, ff->cyc_lat, 100.0 * ff->runner_up, pilot_pixels);
     return 0;
 }
 
@@ -579,36 +632,35 @@ static int run_sampled(const fid_job *job, double rate, fid_outcome *o, fid_func
     const fid_params *fp = fid_params_get();
     fid_result *r = &o->res;
     r->level = FID_SAMPLED;
-    if (!ff->rays && fid_functional_run(job, NULL, 0, ff, err, errlen))
-        return 2;
     int G = fp->sample_groups;
     uint32_t period = (uint32_t)llround((double)G / rate);
     if (period < (uint32_t)G)
         period = (uint32_t)G;
     double est[3][16] = {{0}}, sample_rays = 0, dev[2] = {0, 0}, static_share = 0, raw_mrps_dev = 0;
     uint32_t min_pixels = UINT32_MAX;
-    int rc = 0;
-    for (int g = 0; g < G && rc == 0; g++) {
-        uint32_t n = 0;
-        uint32_t *px = band_subset(job, period, (uint32_t)g, (uint32_t)G, &n);
-        if (!px) {
-            snprintf(err, errlen, "out of memory");
-            return 2;
-        }
+    /* the pieces: [the frame's functional pass when not given], the groups */
+    piece_plan plan = {job, ff->rays == 0, period, (uint32_t)G};
+    int first = plan.frame_pass ? 1 : 0, npieces = first + G;
+    fid_piece *pc = calloc((size_t)npieces, sizeof *pc);
+    if (!pc) {
+        snprintf(err, errlen, "out of memory");
+        return 2;
+    }
+    int rc = ks_pool_run(npieces, job->jobs, sizeof *pc, run_piece, &plan, pc, err, errlen);
+    if (rc) {
+        free(pc);
+        return rc;
+    }
+    if (plan.frame_pass)
+        *ff = pc[0].f;
+    for (int g = 0; g < G; g++) {
+        const uint32_t n = pc[first + g].pixels;
         if (n < min_pixels)
             min_pixels = n;
-        model_fig m;
-        fid_func fs;
-        if (n == 0) {
-            free(px);
+        if (n == 0)
             continue;
-        }
-        rc = run_model(job, job->cfg, px, n, &m, NULL, err, errlen);
-        if (rc == 0 && fid_functional_run(job, px, n, &fs, err, errlen))
-            rc = 2;
-        free(px);
-        if (rc)
-            break;
+        const model_fig m = pc[first + g].m;
+        fid_func fs = pc[first + g].f;
         sample_rays += m.rays;
         /* MRPS: the misses' cost calibrated on the sample (the functional
          * model's miss wait scaled until its cycles for the sample equal
@@ -632,8 +684,7 @@ static int run_sampled(const fid_job *job, double rate, fid_outcome *o, fid_func
         double sec = est[0][g] > 0 ? (double)ff->rays / (est[0][g] * 1e6) : 0;
         est[2][g] = energy_ratio(&m, &fs, ff, sec);
     }
-    if (rc)
-        return rc;
+    free(pc);
     double mean[3], rel[3];
     for (int k = 0; k < 3; k++) {
         double s = 0, s2 = 0;

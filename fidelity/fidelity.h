@@ -19,7 +19,8 @@
  * of the run that gives the figures (fixed-mem) or a statistics registry of
  * its own (functional, sampled), plus the fid_result (level, relative error
  * estimate per figure of merit, flag and reason). Deterministic: same inputs,
- * same numbers. Library folder: uses model/, tracer/ and frame/frame.h
+ * same numbers, whatever job->jobs (independent pieces run in forked worker
+ * processes and are combined in a fixed order). Library folder: uses model/, tracer/ and frame/frame.h
  * (the tracer->model bridge); model/ never includes it. */
 #ifndef RTSIM_FIDELITY_FIDELITY_H
 #define RTSIM_FIDELITY_FIDELITY_H
@@ -83,6 +84,10 @@ typedef struct fid_job {
     double sample_rate;           /* sampled: fraction of pixels, 0 = default */
     accel_progress_fn progress;
     void *progress_user;
+    int jobs;                     /* independent pieces (the frame's functional pass, sample
+                                     groups, pilots) run in up to this many worker processes
+                                     at once (kernel/fork_pool.h); <= 1: one after the other
+                                     in this process. The figures are the same either way. */
 } fid_job;
 
 typedef struct fid_outcome {
@@ -95,7 +100,9 @@ typedef struct fid_outcome {
 } fid_outcome;
 
 /* Runs level (not FID_FULL) or, with accuracy > 0, the automatic choice.
- * Returns 0, 1 on a simulation failure, 2 on bad input; err set. */
+ * Returns 0, 1 on a simulation failure (or a worker process that died), 2
+ * on bad input, 128 + the signal when interrupted while worker processes
+ * ran (kernel/interrupt.h: they are stopped); err set. */
 int fid_run(const fid_job *job, fid_level level, double accuracy, fid_outcome *out, char *err, size_t errlen);
 /* The figures' registry (top's or own). */
 ks_stats *fid_outcome_stats(fid_outcome *o);

@@ -45,4 +45,9 @@ void ks_interrupt_install(const char *tool)
     sigaction(SIGTERM, &sa, NULL);
 }
 
-void ks_interrupt_polling(bool on) { g_polling = on; }
+bool ks_interrupt_polling(bool on)
+{
+    bool was = g_polling != 0;
+    g_polling = on;
+    return was;
+}

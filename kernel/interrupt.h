@@ -24,7 +24,8 @@
 extern volatile sig_atomic_t ks__interrupt_signal;
 
 void ks_interrupt_install(const char *tool);
-void ks_interrupt_polling(bool on);
+/* Enters (true) or leaves a polling phase; returns the previous state. */
+bool ks_interrupt_polling(bool on);
 static inline int ks_interrupted(void) { return ks__interrupt_signal; }
 /* "SIGINT" or "SIGTERM" (or "signal"). */
 const char *ks_interrupt_name(int sig);

@@ -41,6 +41,7 @@ struct ks_out {
 static ks_out g_outs[OUT_MAX];
 static int g_nouts;
 static bool g_atexit;
+static pid_t g_owner;     /* the process that planned the outputs (a forked worker is not it) */
 
 /* dst = a followed by suffix. Both names live in one ks_out: copied by
  * length, as gcc -O1's -Wrestrict flags an snprintf between members of one
@@ -103,7 +104,13 @@ static const ks_out *same_file(const ks_out *o)
     return NULL;
 }
 
-static void out_atexit(void) { ks_out_discard_all(); }
+/* Only in the process that made the plans: a forked worker that calls
+ * exit() (kernel/fork_pool.h) must not remove its parent's temporaries. */
+static void out_atexit(void)
+{
+    if (getpid() == g_owner)
+        ks_out_discard_all();
+}
 
 ks_out *ks_out_plan(const char *opt, const char *path, char *err, size_t errlen)
 {
@@ -230,6 +237,7 @@ ks_out *ks_out_plan(const char *opt, const char *path, char *err, size_t errlen)
     if (!g_atexit) {
         atexit(out_atexit);
         g_atexit = true;
+        g_owner = getpid();
     }
     return o;
 }
@@ -387,6 +395,8 @@ void ks_out_discard_all(void)
 
 void ks_out_remove_temps_signal_safe(void)
 {
+    if (getpid() != g_owner)   /* getpid is async-signal-safe */
+        return;
     for (int i = 0; i < g_nouts; i++)
         if (g_outs[i].tmp_live) {
             unlink(g_outs[i].tmp);

@@ -32,6 +32,9 @@
  *  - ks_out_remove_temps_signal_safe(): unlinks every temporary not yet
  *    committed using only async-signal-safe calls (the interrupt handler);
  *    ks_out_discard_all() does the same from normal code.
+ *  - Only the process that made the plans removes their temporaries (at
+ *    exit, on a signal): a forked worker (fork_pool.h) that calls exit()
+ *    leaves its parent's outputs alone.
  * Plans live until the process ends (a tool makes a handful). Not
  * thread-safe. */
 #ifndef KS_OUT_FILE_H

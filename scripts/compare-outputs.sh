@@ -14,7 +14,7 @@
 #
 # What is compared: summaries on stdout, JSON, VCD, heatmaps, trace logs and
 # command traces, byte for byte, except what measures the host rather than
-# the model: the summary's "host" and "time" lines and build times (and the
+# the model: the summary's "host", "workers" and "time" lines and build times (and the
 # run folder in paths); JSON fields of host time and speed
 # (names ending in _s, or holding wall, cpu, host or per_s); the JSON's `run`
 # provenance object (command line, date, times); the commit in rttrace's
@@ -58,7 +58,7 @@ normalize() { # file -> normalized text on stdout
     *.json) normalize_json "$1" ;;
     *.vcd) sed '/^\$date/,/\$end/d' "$1" ;;
     *.txt) if head -c 1 "$1" | grep -q '{'; then normalize_json "$1"; return; fi   # rtdram --json
-           grep -vE '^(host|time) ' "$1" | sed -E -e "s#$work/[ab]/#OUT/#g" \
+           grep -vE '^(host|time|workers) ' "$1" | sed -E -e "s#$work/[ab]/#OUT/#g" \
                -e 's/built in [0-9.]+ s/built in T s/' ;;
     *) cat "$1" ;;
   esac

@@ -4,7 +4,8 @@
 # figures; each shortcut is driven into the region where it fails and must
 # raise the flag (fixed-mem under saturated DRAM traffic, functional near a
 # TRV/IST tie, sampled at a rate too low for its bound); --accuracy says what
-# it picked; bad values exit 2; results repeat bit for bit.
+# it picked; bad values exit 2; results repeat bit for bit, and do not
+# depend on --jobs (worker processes; Ctrl-C stops them cleanly).
 set -u
 bin=${RTSIM_BIN:?}/rtsim
 tmp=${RTSIM_TMP:-/tmp}/tb_fidelity_cli
@@ -72,6 +73,49 @@ for lv in fixed-mem functional sampled; do
   else fail "fidelity_${lv}_deterministic" "two runs differ"; fi
 done
 
+# --- independent pieces in worker processes (--jobs, kernel/fork_pool.h) ----
+# The figures are the same whatever N: JSON (run object aside) and summary
+# (host lines aside), for every level with pieces and for --accuracy.
+for args in "interior --res 96x54 --fidelity sampled" "hairball --res 64x36 --rays diffuse --fidelity functional" \
+            "interior --res 64x36 --accuracy 2%"; do
+  name=$(echo "$args" | tr -c 'a-z0-9\n' _ | tr -s _)
+  ok=1
+  for n in 1 4; do
+    # shellcheck disable=SC2086
+    "$bin" $args --jobs $n --json "$tmp/jobs$n.json" >"$tmp/jobs$n.txt" 2>&1 || ok=0
+  done
+  if [ $ok = 1 ] && same_results "$tmp/jobs1.json" "$tmp/jobs4.json" &&
+     diff <(grep -vE '^(host|workers) ' "$tmp/jobs1.txt") <(grep -vE '^(host|workers) ' "$tmp/jobs4.txt") >/dev/null; then
+    pass "fidelity_jobs_1_vs_4_identical_${name%_}"
+  else fail "fidelity_jobs_1_vs_4_identical_${name%_}" "outputs differ or a run failed: $(tail -2 "$tmp/jobs4.txt" | tr '\n' ' ')"; fi
+done
+# RTSIM_JOBS sets the default; the run object says how the CPU splits
+RTSIM_JOBS=3 "$bin" interior --res 96x54 --fidelity sampled --json "$tmp/jobsenv.json" >"$tmp/jobsenv.txt" 2>&1
+if python3 - "$tmp/jobsenv.json" "$tmp/jobs1.json" <<'PY'
+import json, sys
+r = json.load(open(sys.argv[1]))["run"]
+assert r["sim_jobs"] == 3 and r["sim_workers"] == 5, (r["sim_jobs"], r["sim_workers"])   # frame pass + 4 groups
+assert 0 < r["sim_worker_cpu_s"] <= r["sim_cpu_s"] <= r["host_cpu_s"], r
+r1 = json.load(open(sys.argv[2]))["run"]
+assert r1["sim_workers"] == 0 and r1["sim_worker_cpu_s"] == 0, r1   # --jobs 1: all in this process
+PY
+then pass fidelity_jobs_env_and_run_object; else fail fidelity_jobs_env_and_run_object "run object: $(grep -E '^(host|workers)' "$tmp/jobsenv.txt" | tr '\n' ' ')"; fi
+if grep -q "^workers     5 processes, up to 3 at once" "$tmp/jobsenv.txt"; then pass fidelity_jobs_summary_line
+else fail fidelity_jobs_summary_line "$(grep -E '^(host|workers)' "$tmp/jobsenv.txt" | tr '\n' ' ')"; fi
+# Ctrl-C while the workers run: they stop, the parent says so, exit 130, no JSON
+"$bin" interior --res 640x360 --rays diffuse --fidelity sampled --jobs 2 --json "$tmp/int.json" >"$tmp/int.out" 2>"$tmp/int.err" &
+pid=$!
+for _ in $(seq 100); do [ -n "$(pgrep -P $pid)" ] && break; sleep 0.05; done
+workers=$(pgrep -P $pid | tr '\n' ' ')
+kill -INT $pid; wait $pid; rc=$?
+sleep 0.2
+left=""
+for w in $workers; do kill -0 "$w" 2>/dev/null && left="$left $w"; done
+if [ -n "$workers" ] && [ $rc = 130 ] && grep -q "interrupted by SIGINT: worker processes stopped; no output written" "$tmp/int.err" &&
+   [ -z "$left" ] && [ ! -e "$tmp/int.json" ] && [ -z "$(ls "$tmp" | grep 'int.json.tmp')" ]; then
+  pass fidelity_jobs_sigint_stops_workers
+else fail fidelity_jobs_sigint_stops_workers "exit $rc, workers '$workers', left '$left': $(tr '\n' ' ' <"$tmp/int.err")"; fi
+
 # --- each shortcut where it fails: the flag ---------------------------------
 # fixed-mem under saturated DRAM traffic: diffuse hair with a 4 KB node L2
 # (every visit misses to DRAM); the furball stand-in when it is there.
@@ -135,5 +179,8 @@ expect fidelity_bad_level 2 "--fidelity fast: allowed values are full, fixed-mem
 expect fidelity_bad_accuracy 2 "--accuracy 0%: expected a percentage in (0, 100]" -- "$bin" --accuracy 0%
 expect fidelity_bad_accuracy_text 2 "--accuracy two" -- "$bin" --accuracy two
 expect fidelity_bad_sample_rate 2 "--sample-rate 2: allowed range 0 < R <= 1" -- "$bin" --sample-rate 2
+expect fidelity_bad_jobs 2 "--jobs 0: allowed range 1..1024" -- "$bin" --jobs 0
+expect fidelity_bad_jobs_text 2 "--jobs two: allowed range 1..1024" -- "$bin" --jobs two
+expect fidelity_bad_jobs_env 2 "RTSIM_JOBS=0: allowed range 1..1024" -- env RTSIM_JOBS=0 "$bin" --fidelity sampled
 expect fidelity_vcd_needs_full 2 "need --fidelity full (functional asked)" -- "$bin" --fidelity functional --vcd "$tmp/x.vcd"
 if [ ! -e "$tmp/x.vcd" ]; then pass fidelity_vcd_refused_writes_nothing; else fail fidelity_vcd_refused_writes_nothing "file written"; fi

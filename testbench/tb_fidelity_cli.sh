@@ -167,6 +167,13 @@ if echo "$out" | grep -q "^accuracy    --accuracy 0.01%: fell back to full" && [
           <(python3 -c 'import json,sys; d=json.load(open(sys.argv[1])); print(d["mrps"], d["dram_bytes"])' "$tmp/full.json"); then
   pass fidelity_accuracy_falls_back_to_full
 else fail fidelity_accuracy_falls_back_to_full "$(echo "$out" | grep -E '^(fidelity|accuracy)' | tr '\n' ' ')"; fi
+# a target under every cheap level's error floor skips them: no worker runs,
+# and the choice says why (fidelity_params.h: 15% functional, 3.5% sampled)
+out=$("$bin" interior --res 32x18 --accuracy 2% 2>&1)
+if echo "$out" | grep -q "^accuracy    --accuracy 2%: fell back to full (functional not tried: its error floor is 15.0%; sampled not tried: its DRAM MB error floor is 3.5%)" &&
+   ! echo "$out" | grep -q "^workers"; then
+  pass fidelity_accuracy_skips_levels_under_their_floor
+else fail fidelity_accuracy_skips_levels_under_their_floor "$(echo "$out" | grep -E '^(accuracy|workers)' | tr '\n' ' ')"; fi
 out=$("$bin" hairball --res 96x54 --accuracy 40% --json "$tmp/acc2.json" 2>&1)
 if echo "$out" | grep -q "^accuracy    --accuracy 40%: picked functional" && [ "$(field "$tmp/acc2.json" fidelity)" = functional ]; then
   pass fidelity_accuracy_picks_cheap_level

@@ -219,14 +219,12 @@ static int help_module(const char *name)
     /* a module's parameters are the keys of the configuration sections its
      * description names: their schemas (in the unit's own file) are the only
      * place a key's type, default, range, unit and source are written */
-    for (int i = 0; d && d->config_sections && i < rtcfg_schema_count(cfg); i++) {
+    for (int i = 0; d && i < rtcfg_schema_count(cfg); i++) {
         const rtcfg_schema *s = rtcfg_schema_at(cfg, i);
-        size_t n = strlen(s->section);
-        for (const char *c = d->config_sections; c; c = strchr(c, ',') ? strchr(c, ',') + 1 : NULL)
-            if (!strncmp(c, s->section, n) && (c[n] == ',' || c[n] == 0)) {
-                printf("\nConfiguration keys [%s]:\n", s->section);
-                rtcfg_print_schema(stdout, s, NULL);
-            }
+        if (ks_module_desc_names_section(d, s->section)) {
+            printf("\nConfiguration keys [%s]:\n", s->section);
+            rtcfg_print_schema(stdout, s, NULL);
+        }
     }
     /* a configuration section asked for by its own name ("machine", "fifo") */
     for (int i = 0; !d && i < rtcfg_schema_count(cfg); i++)

@@ -23,6 +23,15 @@ const ks_desc_item *ks_module_desc_find(const ks_module_desc *m, ks_desc_kind ki
     return NULL;
 }
 
+bool ks_module_desc_names_section(const ks_module_desc *m, const char *section)
+{
+    size_t n = strlen(section);
+    for (const char *c = m->config_sections; c && *c; c = strchr(c, ',') ? strchr(c, ',') + 1 : NULL)
+        if (!strncmp(c, section, n) && (c[n] == ',' || c[n] == 0))
+            return true;
+    return false;
+}
+
 static void section(const ks_module_desc *m, ks_desc_kind kind, const char *title, FILE *o)
 {
     if (!ks_module_desc_count(m, kind))

@@ -22,6 +22,7 @@
 #ifndef KS_MODULE_DESC_H
 #define KS_MODULE_DESC_H
 
+#include <stdbool.h>
 #include <stddef.h>
 #include <stdio.h>
 
@@ -61,6 +62,8 @@ void ks_module_desc_print(const ks_module_desc *m, FILE *out);
 const ks_desc_item *ks_module_desc_find(const ks_module_desc *m, ks_desc_kind kind,
                                         const char *name);
 size_t ks_module_desc_count(const ks_module_desc *m, ks_desc_kind kind);
+/* True when section is one of m->config_sections. */
+bool ks_module_desc_names_section(const ks_module_desc *m, const char *section);
 /* 0 when valid, else -1 with a message naming the module and item in err. */
 int ks_module_desc_check(const ks_module_desc *m, char *err, size_t cap);
 

@@ -331,16 +331,23 @@ static void test_arithmetic(void)
     tb_end();
 }
 
+/* Loads the project's SRAM and FPU tables (RTSIM_DATA_DIR, else model/data). */
+static int load_project_tables(energy_table *t, char *err, size_t errlen)
+{
+    char s[600], f[600];
+    const char *dir = getenv("RTSIM_DATA_DIR");
+    snprintf(s, sizeof s, "%s/energy/sram_45nm.ini", dir && *dir ? dir : "model/data");
+    snprintf(f, sizeof f, "%s/energy/fpu_45nm.ini", dir && *dir ? dir : "model/data");
+    return energy_table_load(t, s, f, err, errlen);
+}
+
 /* The project's own tables cover both preset machines exactly. */
 static void test_project_tables(void)
 {
     tb_begin("energy_project_tables_load");
     static energy_table t;
-    char err[600], s[600], f[600];
-    const char *dir = getenv("RTSIM_DATA_DIR");
-    snprintf(s, sizeof s, "%s/energy/sram_45nm.ini", dir && *dir ? dir : "model/data");
-    snprintf(f, sizeof f, "%s/energy/fpu_45nm.ini", dir && *dir ? dir : "model/data");
-    TB_EQ_INT(energy_table_load(&t, s, f, err, sizeof err), 0);
+    char err[600];
+    TB_EQ_INT(load_project_tables(&t, err, sizeof err), 0);
     energy_sram fig;
     energy_sram_req l1 = {"node_l1", ENERGY_CACHE, ENERGY_1RW, 16384, 4, 128, 0};
     TB_EQ_INT(energy_sram_figure(&t, &l1, &fig, err, sizeof err), 0);
@@ -362,11 +369,8 @@ static void test_node_word(void)
 {
     tb_begin("energy_node_word_interpolated_in_line_width");
     static energy_table t;
-    char err[1200], s[600], f[600];
-    const char *dir = getenv("RTSIM_DATA_DIR");
-    snprintf(s, sizeof s, "%s/energy/sram_45nm.ini", dir && *dir ? dir : "model/data");
-    snprintf(f, sizeof f, "%s/energy/fpu_45nm.ini", dir && *dir ? dir : "model/data");
-    TB_EQ_INT(energy_table_load(&t, s, f, err, sizeof err), 0);
+    char err[1200];
+    TB_EQ_INT(load_project_tables(&t, err, sizeof err), 0);
     energy_sram fig;
     /* MBVH3 L1: 16 KB, 4-way, 96 B words: the mean of [l1node_bvh] (64 B:
      * 0.0827 mm2, 0.03352 / 0.04420 nJ, 21.439 mW) and [l1node_mbvh4]

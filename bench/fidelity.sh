@@ -1,8 +1,10 @@
 #!/usr/bin/env bash
 # Fidelity levels' speed (docs/fidelity.md): host CPU time of each level
 # against the full model on one primary workload (interior 640x360, MBVH4)
-# and one diffuse workload (hairball 320x180, MBVH4), median of RUNS (3)
-# runs, one core, with the level's true MRPS error against full.
+# and one diffuse workload (hairball 320x180, MBVH4), and of the windowed
+# level (made for large frames) on interior 1280x720, primary and diffuse;
+# median of RUNS (3) runs, one core (--jobs 1), with the level's true MRPS
+# error against full.
 #   bash bench/fidelity.sh [BUILD_DIR]
 # CSV (BUILD_DIR/bench/fidelity.csv): benchmark,ours_median_s,reference_median_s,ratio
 # where ours = the level's time, reference = the full model's time, ratio =
@@ -25,14 +27,16 @@ run() {
 }
 
 printf '%-44s %10s %10s %9s %12s %8s\n' benchmark "host (s)" "full (s)" speedup "MRPS error" flagged >&2
-for w in "interior_640x360_primary interior --res 640x360 --rays primary" \
-         "hairball_320x180_diffuse hairball --res 320x180 --rays diffuse"; do
+for w in "interior_640x360_primary fixed-mem,functional,sampled interior --res 640x360 --rays primary" \
+         "hairball_320x180_diffuse fixed-mem,functional,sampled hairball --res 320x180 --rays diffuse" \
+         "interior_1280x720_primary windowed interior --res 1280x720 --rays primary" \
+         "interior_1280x720_diffuse windowed interior --res 1280x720 --rays diffuse"; do
   set -- $w
-  name=$1; shift
+  name=$1 levels=$2; shift 2
   run "$@"
   full=$med full_mrps=$mrps
-  for lv in fixed-mem functional sampled; do
-    run "$@" --fidelity "$lv"
+  for lv in ${levels//,/ }; do
+    run "$@" --fidelity "$lv" --jobs 1
     sp=$(awk -v o="$med" -v r="$full" 'BEGIN { printf "%.2f", (o > 0 ? r / o : 0) }')
     er=$(awk -v a="$mrps" -v b="$full_mrps" 'BEGIN { e = (a / b - 1) * 100; printf "%+.1f%%", e }')
     printf '%-44s %10.3f %10.3f %8sx %12s %8s\n' "${name}_$lv" "$med" "$full" "$sp" "$er" "$flag" >&2

@@ -48,6 +48,7 @@ typedef struct options {
     int level;                 /* fid_level */
     double accuracy, sample_rate;   /* 0: not given */
     uint64_t jobs;             /* worker processes at once (--jobs, RTSIM_JOBS, else the CPUs) */
+    uint64_t windows;          /* --windows, 0: not given */
 } options;
 
 /* Most worker processes --jobs and RTSIM_JOBS accept: a sanity bound (a
@@ -130,13 +131,16 @@ static int parse_options(int argc, char **argv, options *o)
         {.name = "version", .kind = CLI_VERSION},
         {.name = "fidelity", .kind = CLI_CHOICE, .to.choice = &o->level, .choices = levels, .arg = "LEVEL",
          .def = "full",
-         .help = "full (default), fixed-mem, functional or sampled: cheaper models,\n"
-                 "each result with its error estimate and flag (docs/fidelity.md)"},
+         .help = "full (default), fixed-mem, functional, sampled or windowed: cheaper\n"
+                 "models, each result with its error estimate and flag (docs/fidelity.md)"},
         {.name = "accuracy", .kind = CLI_CUSTOM, .to.custom = &o->accuracy, .parse = parse_accuracy, .arg = "P%",
          .what = "expected a percentage in (0, 100], e.g. 2%%",
          .help = "pick the cheapest level expected within P% (falls back to full)"},
         {.name = "sample-rate", .kind = CLI_REAL, .to.real = &o->sample_rate, .arg = "R", .lo = 0, .lo_open = true,
-         .hi = 1, .help = "sampled: fraction of the pixels modelled ({range}; default 1/16)"},
+         .hi = 1, .help = "sampled, windowed: fraction of the pixels modelled\n"
+                          "({range}; default 1/16 sampled, 1/8 windowed)"},
+        {.name = "windows", .kind = CLI_UINT, .to.u = &o->windows, .arg = "N", .min = 2, .max = 4096,
+         .help = "windowed: windows of consecutive pixels ({range}; default 16)"},
         {.name = "jobs", .kind = CLI_UINT, .to.u = &o->jobs, .arg = "N", .min = 1, .max = RTSIM_MAX_JOBS,
          .help = "fidelity levels: run independent pieces (sample groups, the\n"
                  "functional pass, pilots) in up to N worker processes at once\n"
@@ -435,7 +439,7 @@ static int run_fidelity(job *j)
 {
     const options *o = j->o;
     fid_job job = {j->cfg, &j->sc.mesh, j->view, &j->img, j->w, j->h, o->diffuse, (uint32_t)o->bounces, o->seed,
-                   o->sample_rate, NULL, NULL, (int)o->jobs};
+                   o->sample_rate, NULL, NULL, (int)o->jobs, (uint32_t)o->windows};
     fid_outcome fo;
     fill_run(j);
     double t0 = wall(), c0 = cpu(), w0 = ks_pool_children_cpu_s();

@@ -10,7 +10,10 @@
  *               (real counts), cycles from a throughput model;
  *   sampled     the full model on interleaved bands of pixel rows, scaled to the
  *               frame by a ratio estimator against the functional pass of
- *               the whole frame, with a confidence interval over groups.
+ *               the whole frame, with a confidence interval over groups;
+ *   windowed    the full model on a few warmed-up windows of consecutive
+ *               pixels only, scaled to the frame by the traversal work of a
+ *               pixel lattice (fidelity/windowed.h).
  * --accuracy P% picks the cheapest level whose estimated errors stay within
  * P, from a pilot, and falls back to full when unsure.
  *
@@ -36,10 +39,10 @@
 #include "tracer/bvh.h"
 #include "tracer/scene.h"
 
-typedef enum fid_level { FID_FULL, FID_FIXED_MEM, FID_FUNCTIONAL, FID_SAMPLED, FID_LEVEL_COUNT } fid_level;
+typedef enum fid_level { FID_FULL, FID_FIXED_MEM, FID_FUNCTIONAL, FID_SAMPLED, FID_WINDOWED, FID_LEVEL_COUNT } fid_level;
 
 const char *fid_level_name(fid_level l);
-/* "full", "fixed-mem", "functional", "sampled"; false when unknown. */
+/* "full", "fixed-mem", "functional", "sampled", "windowed"; false when unknown. */
 bool fid_level_parse(const char *s, fid_level *out);
 /* "2%", "2", "0.5%": percent in (0, 100]; false otherwise. */
 bool fid_accuracy_parse(const char *s, double *fraction);
@@ -58,7 +61,7 @@ typedef struct fid_result {
 
 /* full: exact by definition. */
 void fid_result_full(fid_result *r);
-/* Registers fidelity_level (0..3), unreliable, error_estimate.mrps,
+/* Registers fidelity_level (0..4), unreliable, error_estimate.mrps,
  * error_estimate.dram_mb, error_estimate.energy_mj (percent) in st; r must
  * outlive st's use. */
 /* The statistics fid_register_stats adds, declared (--help-module fidelity). */
@@ -81,13 +84,14 @@ typedef struct fid_job {
     bool diffuse;
     uint32_t bounces;
     uint64_t seed;
-    double sample_rate;           /* sampled: fraction of pixels, 0 = default */
+    double sample_rate;           /* sampled, windowed: fraction of pixels, 0 = default */
     accel_progress_fn progress;
     void *progress_user;
     int jobs;                     /* independent pieces (the frame's functional pass, sample
                                      groups, pilots) run in up to this many worker processes
                                      at once (kernel/fork_pool.h); <= 1: one after the other
                                      in this process. The figures are the same either way. */
+    uint32_t windows;             /* windowed: windows, 0 = default */
 } fid_job;
 
 typedef struct fid_outcome {

@@ -44,6 +44,17 @@ static const fid_params defaults = {
      * 0.2% on the sample, so the ratio estimator is 2.3-2.6% off */
     .sample_err_dram = 0.025,      /* the worst excess over CI + bias term in the 320x180 matrix: 1.1% */
     .band_rows = 1,                /* 8x8 tiles and 4- or 8-row bands were 5-12% low on primary MRPS (docs/fidelity.md) */
+    .win_rate = 0.125,
+    .win_count = 16,
+    .win_groups = 8,
+    .win_min_count = 8,
+    .win_warm_pixels = 4096,
+    .win_min_pixels = 256,
+    .win_tail_pixels = 512,
+    .win_lattice = 4,
+    .win_err_floor = 0.005,
+    .win_max_cold = 0.02,
+    .win_max_rate = 0.4,
 };
 
 const fid_params *fid_params_get(void) { return &defaults; }

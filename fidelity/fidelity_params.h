@@ -36,6 +36,18 @@ typedef struct fid_params {
     double sample_err_dram;       /* sampled: bias bound of the DRAM ratio estimator */
     double sample_err_floor;      /* sampled: floor added to every estimate (bias of the ratio estimator) */        /* estimated error beyond which a sampled result is flagged */
     int band_rows;                /* rows per band of a sample */
+    /* windowed */
+    double win_rate;              /* default fraction of the pixels through the model, warm-ups included */
+    int win_count;                /* windows */
+    int win_groups;               /* replicate groups of windows (the interval), at most 64 */
+    int win_min_count;            /* fewer windows than this: shorter ones instead */
+    double win_warm_pixels;       /* pixels of the warm-up before each window */
+    double win_min_pixels;        /* shortest window */
+    double win_tail_pixels;       /* pixels queued after a window so the pipeline stays full to its end */
+    int win_lattice;              /* 1 pixel in this many traced for the frame's work */
+    double win_err_floor;         /* added to every estimate: boundary effects of the windows */
+    double win_max_cold;          /* share of cold fills in the windows beyond which the warm-ups are too short */
+    double win_max_rate;          /* --accuracy: most of the frame the windows may take before full is cheaper */
 } fid_params;
 
 const fid_params *fid_params_get(void);

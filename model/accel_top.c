@@ -21,6 +21,9 @@
 #include "model/ray/trv.h"
 
 #define SLICE_CYCLES 65536u
+/* Slices while running to a mark (accel_top_run_until): how far past the
+ * mark a window may end, against the thousands of cycles a window lasts. */
+#define MARK_SLICE_CYCLES 256u
 /* The kernel detector's margin over the machine's longest wait: the fixed
  * window it had before the bound was derived (kernel/sim.h default). */
 #define ACCEL_DEADLOCK_MARGIN 100000u
@@ -264,13 +267,16 @@ static void add_fifo_activity(energy_activity *a, int j, const ks_stats *st, con
 }
 
 /* Activity of the run, from the statistics registry. */
-static void compute_energy(accel_top *t)
+/* The energy activity of the run so far: every count the energy model
+ * prices, seconds of frame time, DRAM energy up to the DRAM port's statistics
+ * end (the current time until finish_stats sets it) and dram_bytes. */
+static void gather_activity(accel_top *t, double seconds, double dram_bytes, energy_activity *out)
 {
     energy_model *em = t->energy;
     const ks_stats *st = t->stats;
     energy_activity a = {0};
     char nm[64];
-    a.seconds = t->seconds;
+    a.seconds = seconds;
     double comparators = sort_net_get(t->p.width)->ncmps;
     for (uint32_t i = 0; i < t->p.trv_count; i++) {
         /* slab tests of all lanes, and one FLOP per comparator of each sort */
@@ -315,8 +321,15 @@ static void compute_energy(accel_top *t)
         a.dram_dynamic_nj = (total - bg) * 1e3;
         a.dram_static_nj = bg * 1e3;
     }
-    a.dram_bytes = stat_named(st, "dram_bytes");
-    energy_compute(em, &a, stat_named(st, "mrps"));
+    a.dram_bytes = dram_bytes;
+    *out = a;
+}
+
+static void compute_energy(accel_top *t)
+{
+    energy_activity a;
+    gather_activity(t, t->seconds, stat_named(t->stats, "dram_bytes"), &a);
+    energy_compute(t->energy, &a, stat_named(t->stats, "mrps"));
 }
 
 static uint64_t ceil_div(uint64_t a, uint64_t b) { return b ? (a + b - 1) / b : 0; }
@@ -613,17 +626,29 @@ static uint64_t committed_work(const accel_top *t)
     return w;
 }
 
-int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *err, size_t errlen)
+/* Runs slices of the simulation until the frame ends or fails (rc 1, err and
+ * t->failure set) or, with stop_primaries > 0, until the scheduler has taken
+ * that many primary rays (*stopped; checked every MARK_SLICE_CYCLES, so the
+ * caller reads where it actually stopped). *now_out: the cycle reached. */
+static int run_slices(accel_top *t, accel_progress_fn progress, void *user, uint64_t stop_primaries,
+                      bool *stopped, uint64_t *now_out, char *err, size_t errlen)
 {
     ks_time period = ks_clock_period(t->clk);
-    uint64_t slice_end = 0, now_cycle = 0, last_work = 0, last_work_cycle = 0;
+    uint64_t now_cycle = (uint64_t)(ks_sim_now(t->sim) / period), slice_end = now_cycle;
+    uint64_t last_work = 0, last_work_cycle = now_cycle;
     int rc = 0;
+    *stopped = false;
     for (;;) {
-        slice_end += SLICE_CYCLES;
+        slice_end += stop_primaries ? MARK_SLICE_CYCLES : SLICE_CYCLES;
         ks_run_status st = ks_sim_run(t->sim, (ks_time)slice_end * period);
         now_cycle = (uint64_t)(ks_sim_now(t->sim) / period);
         if (progress)
             progress(user, now_cycle, t->sched->completed, t->sched->admitted);
+        if (stop_primaries && t->sched->next_primary >= stop_primaries && !sched_finished(t->sched) &&
+            st != KS_RUN_DEADLOCK && !ks_interrupted()) {
+            *stopped = true;
+            break;
+        }
         if (ks_interrupted()) {
             /* Ctrl-C/SIGTERM (kernel/interrupt.h): stop between two slices,
              * so the VCD ends at a complete time step */
@@ -683,6 +708,15 @@ int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *er
             break;
         }
     }
+    *now_out = now_cycle;
+    return rc;
+}
+
+int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *err, size_t errlen)
+{
+    bool stopped;
+    uint64_t now_cycle;
+    int rc = run_slices(t, progress, user, 0, &stopped, &now_cycle, err, errlen);
     finish_stats(t, rc ? now_cycle : 0);
     if (rc == 0 && t->sched->any_failed) {
         snprintf(err, errlen,
@@ -701,6 +735,44 @@ int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *er
         t->vcd = NULL;
     }
     return rc;
+}
+
+int accel_top_run_until(accel_top *t, uint64_t primaries, accel_point *p, char *err, size_t errlen)
+{
+    bool stopped;
+    uint64_t now_cycle;
+    memset(p, 0, sizeof *p);
+    int rc = run_slices(t, NULL, NULL, primaries ? primaries : 1, &stopped, &now_cycle, err, errlen);
+    if (rc)
+        return 1;
+    p->finished = !stopped;
+    p->cycle = now_cycle;
+    p->primaries = t->sched->next_primary;
+    p->completed = t->sched->completed;
+    p->latency_sum = t->sched->latency_sum;
+    p->dram_bytes = t->mem ? (double)memsys_memory_bytes(t->mem) : 0.0;
+    const cache_core *backed[2] = {memsys_node_l2(t->mem), memsys_prim(t->mem)};
+    for (int i = 0; i < 2; i++) {
+        const cache_stats *cs = cache_core_stats_live(backed[i]);
+        p->backed_fills += cs->fills;
+        p->backed_cold_fills += cs->fills - cs->evictions;
+    }
+    if (t->energy)
+        gather_activity(t, (double)now_cycle / (t->p.clock_mhz * 1e6), p->dram_bytes, &p->act);
+    return 0;
+}
+
+double accel_top_interval_energy_mj(accel_top *t, const accel_point *a, const accel_point *b, double *static_mj)
+{
+    *static_mj = 0;
+    if (!t->energy)
+        return 0;
+    energy_activity d;
+    energy_activity_between(&a->act, &b->act, &d);
+    energy_compute(t->energy, &d, 0);
+    for (int u = 0; u < EU_COUNT; u++)
+        *static_mj += t->energy->r.static_mj[u];
+    return t->energy->r.total_energy_mj;
 }
 
 uint64_t accel_top_cycles(const accel_top *t) { return t->cycles; }

@@ -30,6 +30,7 @@
 #include "kernel/sim.h"
 #include "kernel/stats.h"
 #include "model/accel_config.h"
+#include "model/energy/energy.h"
 #include "model/ray/accel_ray.h"
 #include "config/config.h"
 #include "model/ray/scheduler.h"
@@ -61,6 +62,32 @@ uint64_t accel_top_cycles(const accel_top *t);     /* cycles of the frame (to th
 uint64_t accel_top_rays(const accel_top *t);       /* rays completed */
 double accel_top_mrps(const accel_top *t);         /* rays / simulated second / 1e6 at the machine clock */
 ks_stats *accel_top_stats(accel_top *t);           /* every statistic */
+
+/* A point of a run, for interval sampling (fidelity/windowed.c): counts from
+ * the start of the run to `cycle`. */
+typedef struct accel_point {
+    bool finished;                 /* the frame ended before the mark */
+    uint64_t cycle;                /* where the run stopped */
+    uint64_t primaries;            /* primary rays the scheduler has taken */
+    uint64_t completed, latency_sum; /* rays completed, their summed latencies (cycles) */
+    double dram_bytes;
+    /* line fills of the caches backed by memory (node L2, primitive cache),
+     * and those into an invalid way: a cache started empty whose set was
+     * not yet full, where a warm cache would have had an older line */
+    uint64_t backed_fills, backed_cold_fills;
+    energy_activity act;           /* energy activity so far (model/energy/energy.h) */
+} accel_point;
+
+/* Runs on until the scheduler has taken `primaries` primary rays (it checks
+ * every few hundred cycles, so *p says where it really stopped) or the
+ * frame ends (p->finished), and fills *p. The run may go on with another
+ * call; accel_top_run() is not called after it. 0, or 1 on a simulation
+ * failure (as accel_top_run). */
+int accel_top_run_until(accel_top *t, uint64_t primaries, accel_point *p, char *err, size_t errlen);
+/* Energy of the interval between two points of one run, in mJ (0 without an
+ * energy model); *static_mj: its static part. Overwrites the run's energy
+ * figures, so only for runs that are not reported themselves. */
+double accel_top_interval_energy_mj(accel_top *t, const accel_point *a, const accel_point *b, double *static_mj);
 const accel_params *accel_top_params(const accel_top *t);
 uint64_t accel_top_guard_cycle(const accel_top *t); /* where the livelock guard engaged, 0: never */
 /* Writes the human-readable summary: cycles, MRPS, per-unit utilization,

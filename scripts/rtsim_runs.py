@@ -28,11 +28,14 @@ def scene_key(scene):
     return b
 
 
-def point_name(scene, rays, machine, res, sets=()):
-    """File name of a point: readable, plus a hash of the overrides."""
+def point_name(scene, rays, machine, res, sets=(), extra=()):
+    """File name of a point: readable, plus a hash of the overrides and of
+    any further rtsim arguments."""
     name = "%s_%s_%s_%s" % (scene_key(scene), rays, machine, res)
     if sets:
         name += "_" + hashlib.sha1("\n".join(sets).encode()).hexdigest()[:12]
+    if extra:
+        name += "_" + hashlib.sha1("\n".join(extra).encode()).hexdigest()[:12]
     return name + ".json"
 
 
@@ -40,15 +43,17 @@ class Refused(Exception):
     """rtsim refused the machine at start-up (exit 2): not a valid point."""
 
 
-def run_point(rtsim, runs_dir, scene, rays, machine, res, sets=()):
+def run_point(rtsim, runs_dir, scene, rays, machine, res, sets=(), extra=()):
     """Statistics of one point, running rtsim unless its JSON exists (rtsim
-    writes it under a temporary name and renames it when complete). A
-    machine rtsim refuses (exit 2) raises Refused with rtsim's message."""
-    path = os.path.join(runs_dir, point_name(scene, rays, machine, res, sets))
+    writes it under a temporary name and renames it when complete). extra:
+    further rtsim arguments (e.g. --accuracy 2%). A machine rtsim refuses
+    (exit 2) raises Refused with rtsim's message."""
+    path = os.path.join(runs_dir, point_name(scene, rays, machine, res, sets, extra))
     if not os.path.exists(path):
         cmd = [rtsim, scene, "--res", res, "--rays", rays, "--machine", machine, "--quiet", "--json", path]
         for s in sets:
             cmd += ["--set", s]
+        cmd += list(extra)
         p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         if p.returncode == 2:
             raise Refused(p.stderr.strip().splitlines()[-1] if p.stderr.strip() else "exit 2")
@@ -59,7 +64,7 @@ def run_point(rtsim, runs_dir, scene, rays, machine, res, sets=()):
 
 
 def run_all(tool, rtsim, runs_dir, points, jobs, refused=None):
-    """points: list of (scene, rays, machine, res, sets); returns {point: stats}.
+    """points: list of (scene, rays, machine, res, sets[, extra]); returns {point: stats}.
     With a dict `refused`, a point rtsim refuses goes there (point: message)
     instead of stopping the script."""
     os.makedirs(runs_dir, exist_ok=True)

@@ -36,7 +36,7 @@ awk 'BEGIN {
 scene=$tmp/small.obj
 small=("$scene" --res 24x16 --quiet)
 expect accel_cli_help 0 "usage: rtsim" -- "$bin" --help
-expect accel_cli_help_range 0 "fraction of the pixels modelled (0 < R <= 1; default 1/16)" -- "$bin" --help
+expect accel_cli_help_range 0 "(0 < R <= 1; default 1/16 sampled, 1/8 windowed)" -- "$bin" --help
 expect accel_cli_version 0 "git" -- "$bin" --version
 expect accel_cli_help_module_trv 0 "stack_depth" -- "$bin" --help-module trv
 expect accel_cli_help_module_ist 0 "flops_per_test" -- "$bin" --help-module ist

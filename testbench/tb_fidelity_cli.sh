@@ -3,9 +3,10 @@
 # prints and writes its fidelity, error estimates and flag; full keeps its
 # figures; each shortcut is driven into the region where it fails and must
 # raise the flag (fixed-mem under saturated DRAM traffic, functional near a
-# TRV/IST tie, sampled at a rate too low for its bound); --accuracy says what
-# it picked; bad values exit 2; results repeat bit for bit, and do not
-# depend on --jobs (worker processes; Ctrl-C stops them cleanly).
+# TRV/IST tie, sampled at a rate too low for its bound, windowed with
+# warm-ups too short or a frame too small); --accuracy says what it picked;
+# bad values exit 2; results repeat bit for bit, and do not depend on --jobs
+# (worker processes; Ctrl-C stops them cleanly).
 set -u
 bin=${RTSIM_BIN:?}/rtsim
 tmp=${RTSIM_TMP:-/tmp}/tb_fidelity_cli
@@ -160,6 +161,70 @@ if [ "$(field "$tmp/low.json" unreliable)" = 1 ] && echo "$out" | grep -q "^unre
   pass fidelity_sampled_low_rate_flagged
 else fail fidelity_sampled_low_rate_flagged "$(echo "$out" | grep -E '^(fidelity|unrel)' | tr '\n' ' ')"; fi
 
+# --- windowed (fidelity/windowed.h) -----------------------------------------
+# The frame must hold windows after 4096-pixel warm-ups: 640x360 at 30%.
+win="interior --res 640x360 --rays diffuse --bounces 1 --fidelity windowed --sample-rate 0.3"
+# shellcheck disable=SC2086
+out=$("$bin" $win --jobs 1 --json "$tmp/win1.json" 2>&1); rc=$?
+if [ $rc = 0 ] && echo "$out" | grep -q "^fidelity    windowed; error estimate MRPS" &&
+   echo "$out" | grep -q "^method      windowed: the full model on 15 windows of 512 pixels, each after 4096 warm-up pixels" &&
+   python3 - "$tmp/win1.json" <<'PY'
+import json, sys
+d = json.load(open(sys.argv[1]))
+assert d["fidelity"] == "windowed" and d["fidelity_level"] == 4
+assert d["window.count"] == 15 and d["window.pixels"] == 512 and d["window.warm_pixels"] == 4096
+assert d["_units"]["window.cold_fill_share"] == "ratio" and d["_units"]["window.model_pixels"] == "pixels"
+assert 0.25 < d["window.model_pixels"] / (640 * 360) < 0.35, d["window.model_pixels"]
+assert d["sched.primaries"] == 640 * 360 and d["rays"] > d["sched.primaries"]
+for k in ("cycles", "mrps", "dram_bytes", "energy_mj", "error_estimate.mrps"):
+    assert d[k] > 0, k
+PY
+then pass fidelity_windowed_fields; else fail fidelity_windowed_fields "exit $rc: $(echo "$out" | grep -E '^(fidelity|method|rtsim)' | tr '\n' ' ')"; fi
+# the warm-ups too short: one bounce leaves the 128 KB caches' sets partly
+# empty after 4096 pixels (15% of the windows' fills into never-used ways)
+if [ "$(field "$tmp/win1.json" unreliable)" = 1 ] &&
+   field "$tmp/win1.json" unreliable_reason | grep -q "^windowed: the warm-ups are too short for this frame"; then
+  pass fidelity_windowed_short_warmup_flagged
+else fail fidelity_windowed_short_warmup_flagged "$(field "$tmp/win1.json" unreliable_reason)"; fi
+# the same figures whatever --jobs, and run after run
+# shellcheck disable=SC2086
+"$bin" $win --jobs 2 --json "$tmp/win2.json" >/dev/null 2>&1
+# shellcheck disable=SC2086
+"$bin" $win --jobs 2 --json "$tmp/win3.json" >/dev/null 2>&1
+if same_results "$tmp/win1.json" "$tmp/win2.json"; then pass fidelity_windowed_jobs_1_vs_2_identical
+else fail fidelity_windowed_jobs_1_vs_2_identical "JSON differs"; fi
+if same_results "$tmp/win2.json" "$tmp/win3.json"; then pass fidelity_windowed_deterministic
+else fail fidelity_windowed_deterministic "two runs differ"; fi
+# a frame too small for windows: refused with what it needs; one where they
+# would overlap: run and flagged
+expect fidelity_windowed_frame_too_small 2 "windowed: the frame has 2304 pixels, too few for windows after 4096 warm-up pixels each" -- "$bin" interior --res 64x36 --fidelity windowed
+out=$("$bin" interior --res 320x180 --fidelity windowed --json "$tmp/winsmall.json" 2>&1)
+if [ "$(field "$tmp/winsmall.json" unreliable)" = 1 ] && echo "$out" | grep -q "^unreliable  windowed: the frame is too small for the windows"; then
+  pass fidelity_windowed_overlap_flagged
+else fail fidelity_windowed_overlap_flagged "$(echo "$out" | grep -E '^(fidelity|unrel)' | tr '\n' ' ')"; fi
+expect fidelity_bad_windows 2 "--windows 1: allowed range 2..4096" -- "$bin" --fidelity windowed --windows 1
+# At a size it is made for (interior 1280x720, diffuse, 4 bounces): every
+# figure within its estimate against the full model, not flagged, and
+# --accuracy 10% picks it. Release build only: the full run takes ~18 s.
+if [ -z "${RTSIM_TB_SANITIZED:-}" ]; then
+  "$bin" interior --rays diffuse --json "$tmp/full720.json" >/dev/null 2>&1
+  "$bin" interior --rays diffuse --fidelity windowed --json "$tmp/win720.json" >/dev/null 2>&1
+  if python3 - "$tmp/full720.json" "$tmp/win720.json" <<'PY'
+import json, sys
+a, b = json.load(open(sys.argv[1])), json.load(open(sys.argv[2]))
+assert b["unreliable"] == 0, b["unreliable_reason"]
+for key, st in (("mrps", "mrps"), ("dram_mb", "dram_bytes"), ("energy_mj", "energy_mj")):
+    err = abs(b[st] / a[st] - 1) * 100
+    assert err <= b["error_estimate." + key], (key, err, b["error_estimate." + key])
+PY
+  then pass fidelity_windowed_within_estimate_1280x720; else fail fidelity_windowed_within_estimate_1280x720 "outside or flagged"; fi
+  out=$("$bin" interior --rays diffuse --accuracy 10% 2>&1)
+  if echo "$out" | grep -q "^accuracy    --accuracy 10%: picked windowed, 16 windows"; then pass fidelity_accuracy_picks_windowed
+  else fail fidelity_accuracy_picks_windowed "$(echo "$out" | grep -E '^(fidelity|accuracy)' | tr '\n' ' ')"; fi
+else
+  echo "SKIP fidelity_windowed_within_estimate_1280x720 (release build only: an 18 s full run)"
+fi
+
 # --- --accuracy ------------------------------------------------------------
 out=$("$bin" interior --res 32x18 --accuracy 0.01% --json "$tmp/acc.json" 2>&1)
 if echo "$out" | grep -q "^accuracy    --accuracy 0.01%: fell back to full" && [ "$(field "$tmp/acc.json" fidelity)" = full ] &&
@@ -170,7 +235,7 @@ else fail fidelity_accuracy_falls_back_to_full "$(echo "$out" | grep -E '^(fidel
 # a target under every cheap level's error floor skips them: no worker runs,
 # and the choice says why (fidelity_params.h: 15% functional, 3.5% sampled)
 out=$("$bin" interior --res 32x18 --accuracy 2% 2>&1)
-if echo "$out" | grep -q "^accuracy    --accuracy 2%: fell back to full (functional not tried: its error floor is 15.0%; sampled not tried: its DRAM MB error floor is 3.5%)" &&
+if echo "$out" | grep -q "^accuracy    --accuracy 2%: fell back to full (windowed not tried: windowed: the frame has 576 pixels, too few for windows after 4096 warm-up pixels each (it needs well over 32768; use --fidelity full or sampled); functional not tried: its error floor is 15.0%; sampled not tried: its DRAM MB error floor is 3.5%)" &&
    ! echo "$out" | grep -q "^workers"; then
   pass fidelity_accuracy_skips_levels_under_their_floor
 else fail fidelity_accuracy_skips_levels_under_their_floor "$(echo "$out" | grep -E '^(accuracy|workers)' | tr '\n' ' ')"; fi
@@ -182,7 +247,7 @@ if [ -n "$(field "$tmp/acc2.json" fidelity_choice)" ]; then pass fidelity_accura
 else fail fidelity_accuracy_choice_in_json "empty fidelity_choice"; fi
 
 # --- bad usage ---------------------------------------------------------------
-expect fidelity_bad_level 2 "--fidelity fast: allowed values are full, fixed-mem, functional, sampled" -- "$bin" --fidelity fast
+expect fidelity_bad_level 2 "--fidelity fast: allowed values are full, fixed-mem, functional, sampled, windowed" -- "$bin" --fidelity fast
 expect fidelity_bad_accuracy 2 "--accuracy 0%: expected a percentage in (0, 100]" -- "$bin" --accuracy 0%
 expect fidelity_bad_accuracy_text 2 "--accuracy two" -- "$bin" --accuracy two
 expect fidelity_bad_sample_rate 2 "--sample-rate 2: allowed range 0 < R <= 1" -- "$bin" --sample-rate 2

@@ -3,8 +3,9 @@
 # interior scene, 16x9, both machines, both ray types): Table 1 and Table 2
 # in Markdown and CSV with the paper's numbers beside ours, values equal to
 # rtsim's JSON, the change in percent computed from them, charts that
-# gnuplot wrote (PNG and SVG), a second call that reuses the runs, and bad
-# arguments refused with exit 2.
+# gnuplot wrote (PNG and SVG), a second call that reuses the runs, bad
+# arguments refused with exit 2, and --accuracy (cheaper levels for Table
+# 2, full for Table 1's scene).
 set -u
 tmp=${RTSIM_TMP:-/tmp}/tb_paper_tables
 rm -rf "$tmp"; mkdir -p "$tmp"
@@ -64,3 +65,29 @@ check paper_tables_reuses_runs test "$stamp" = "$(stat -c %Y "$tmp/out/runs/inte
 expect paper_tables_bad_rays 2 "allowed primary, diffuse" -- scripts/paper-tables --bin "$RTSIM_BIN/rtsim" --rays shadow
 expect paper_tables_bad_jobs 2 "--jobs 0" -- scripts/paper-tables --bin "$RTSIM_BIN/rtsim" --jobs 0
 expect paper_tables_bad_table1_scene 2 "not among --scenes" -- scripts/paper-tables --bin "$RTSIM_BIN/rtsim" --scenes interior --table1-scene city
+# --accuracy: Table 2's other scenes at the level rtsim picks (hairball at
+# 40%: functional for some points), Table 1's scene at full; MRPS/mm2 from
+# the machine's area where a cheaper level does not report it
+acc=(scripts/paper-tables --bin "${RTSIM_BIN:?}/rtsim" --scenes interior,hairball --res 96x54 --jobs 2 --out "$tmp/acc"
+     --accuracy 40% --no-charts)
+"${acc[@]}" >"$tmp/acc.log" 2>&1; rc=$?
+check paper_tables_accuracy_runs test "$rc" -eq 0
+check_accuracy() {
+  python3 - "$tmp/acc" <<'PY'
+import csv, glob, json, os, sys
+out = sys.argv[1]
+levels = {}
+for f in glob.glob(os.path.join(out, "runs", "*.json")):
+    d = json.load(open(f))
+    levels[os.path.basename(f).split("_")[0]] = levels.get(os.path.basename(f).split("_")[0], set()) | {d["fidelity"]}
+assert levels["interior"] == {"full"}, levels            # Table 1's scene
+assert "functional" in levels["hairball"], levels        # --accuracy 40% picks it somewhere
+md = open(os.path.join(out, "table2.md")).read()
+line = [l for l in md.splitlines() if l.startswith("With --accuracy 40%: ")]
+assert line and line[0].endswith("(Table 1's scene at full fidelity).") and "runs functional" in line[0], md[-300:]
+assert sum(int(w) for w in line[0].split(":")[1].split() if w.isdigit()) == 8, line
+t2 = [r for r in csv.DictReader(open(os.path.join(out, "table2.csv"))) if r["scene"] == "hairball" and r["figure"] == "MRPS/mm2"]
+assert len(t2) == 2 and all(float(r["ours_mbvh4"]) > 0 for r in t2), t2
+PY
+}
+check paper_tables_accuracy_levels check_accuracy

@@ -166,6 +166,24 @@ energy_model *energy_model_create(const rtcfg *cfg, const energy_machine *m, cha
 
 void energy_model_destroy(energy_model *em) { free(em); }
 
+void energy_activity_between(const energy_activity *from, const energy_activity *to, energy_activity *out)
+{
+    *out = *to;
+    out->seconds -= from->seconds;
+    out->trv_flops -= from->trv_flops, out->ist_flops -= from->ist_flops;
+    out->stack_reads -= from->stack_reads, out->stack_writes -= from->stack_writes;
+    for (int i = 0; i < 3; i++) {
+        out->cache_reads[i] -= from->cache_reads[i];
+        out->cache_writes[i] -= from->cache_writes[i];
+    }
+    for (int i = 0; i < 24; i++) {
+        out->fifo_reads[i] -= from->fifo_reads[i];
+        out->fifo_writes[i] -= from->fifo_writes[i];
+    }
+    out->dram_dynamic_nj -= from->dram_dynamic_nj, out->dram_static_nj -= from->dram_static_nj;
+    out->dram_bytes -= from->dram_bytes;
+}
+
 void energy_compute(energy_model *em, const energy_activity *a, double mrps)
 {
     energy_result *r = &em->r;

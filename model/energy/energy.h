@@ -90,6 +90,10 @@ typedef struct energy_activity {
     double dram_bytes;                       /* fixed memory */
 } energy_activity;
 
+/* out = to - from, every count and the seconds (the activity of an interval
+ * of a run; the energy model is linear in it). */
+void energy_activity_between(const energy_activity *from, const energy_activity *to, energy_activity *out);
+
 typedef struct energy_result {
     double dynamic_mj[EU_COUNT], static_mj[EU_COUNT], energy_mj[EU_COUNT];
     double power_mw[EU_COUNT], area_mm2[EU_COUNT];

@@ -1,0 +1,75 @@
+/* windowed.h — the windowed level: the full model on a few windows of
+ * consecutive pixels spread over the frame, each after a warm-up stretch of
+ * the pixels just before it, and nothing else of the frame through the
+ * model (docs/fidelity.md "windowed").
+ *
+ * SMARTS-style interval sampling with bounded warming: a window's run starts
+ * cold warm_pixels before it, runs the cycle model through the warm-up (the
+ * caches, DRAM rows and the ray pipeline reach the state the frame has
+ * there: the caches hold 1-2K lines, the pipeline 128 rays) and measures
+ * the window as the difference of two points of the run (accel_top.h
+ * accel_top_run_until): cycles, rays, DRAM bytes and energy.
+ *
+ * Scaling to the frame: a ratio estimator against the traversal work
+ * (node visits + triangle tests of each pixel's path, reference traversal,
+ * no timing) of the window's pixels, times the work of the frame estimated
+ * from a lattice of 1 pixel in win_lattice; plus the frame's start (the
+ * warm-up's excess over its steady share, averaged over the windows: every
+ * warm-up starts as cold as the frame does) and its drain (the path
+ * latency). Each figure's 95% interval comes from the windows' spread about
+ * the ratio (Student t), the lattice's standard error and the start
+ * correction's spread; a warm-up bias bound from the fills into never-used
+ * cache ways inside the windows (a warm cache would have had a line there).
+ *
+ * Contract: fid_windowed_run() fills *out; deterministic whatever job->jobs
+ * (the windows and the lattice are independent pieces, kernel/fork_pool.h).
+ * Returns 0, 1 on a simulation failure, 2 on bad input or no memory, or the
+ * pool's 128 + signal; err set. */
+#ifndef RTSIM_FIDELITY_WINDOWED_H
+#define RTSIM_FIDELITY_WINDOWED_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "fidelity/fidelity.h"
+
+enum { FID_WIN_CYCLES, FID_WIN_DRAM, FID_WIN_ENERGY, FID_WIN_FIGS };
+/* the auxiliary figures of a pixel's path: node visits + triangle tests of
+ * its primary ray, and of its bounce rays */
+enum { FID_AUX_PRIMARY, FID_AUX_BOUNCE, FID_AUX_COUNT };
+
+typedef struct fid_windowed {
+    /* the plan and what ran */
+    uint32_t windows, warm_pixels, window_pixels;  /* planned per window */
+    double model_pixels;          /* pixels through the cycle model (warm-ups and windows) */
+    double measured_pixels;       /* of them, inside the windows */
+    double lattice_pixels;        /* pixels traced for the frame's work */
+    bool too_small;               /* the frame cannot hold the plan: windows shrank or overlap */
+    /* the frame */
+    double primaries, rays, cycles, dram_bytes, energy_mj, static_mj;
+    double mean_latency;          /* cycles per ray in the windows */
+    /* relative errors (fractions), each a 95% half-width or a bound */
+    double ci[FID_WIN_FIGS];      /* the windows' spread about the ratio */
+    double start_err[FID_WIN_FIGS]; /* the start correction's spread */
+    double lattice_err[FID_WIN_FIGS]; /* the frame's auxiliary figure from the lattice */
+    double rays_err;              /* the frame's ray count from the lattice (0 for primary rays) */
+    double cold_share;            /* fills into never-used ways / fills, in the windows */
+    struct fid_win_runs *runs;    /* the windows run so far (owned) */
+} fid_windowed;
+
+/* First call (out->runs NULL): plans and runs the windows. rate: fraction of
+ * the frame's pixels through the cycle model (warm-ups included; 0 = the
+ * default win_rate); windows: 0 = the default. A later call with more
+ * windows adds windows to the same plan (the earlier ones are kept: the
+ * window positions are a sequence, see windowed.c) and estimates again;
+ * rate is then ignored. fid_windowed_free() frees what runs holds. */
+int fid_windowed_run(const fid_job *job, double rate, uint32_t windows, fid_windowed *out, char *err, size_t errlen);
+void fid_windowed_free(fid_windowed *w);
+/* Whether the frame holds the plan without flagging it as too small; why
+ * (when not): what is too small. */
+bool fid_windowed_fits(const fid_job *job, double rate, uint32_t windows, char *why, size_t whylen);
+
+/* Student t, two-sided 95%, for dof degrees of freedom (>= 1). */
+double fid_t95(int dof);
+
+#endif

@@ -817,7 +817,17 @@ static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *p
         snprintf(why, whylen, "windowed not tried: %s", small);
         return 0;
     }
-    int rc = fid_windowed_run(job, job->sample_rate, job->windows, &wd, err, errlen);
+    /* a probe of 2 windows first (one per core): primary rays' warm-ups
+     * are never long enough, and the probe says so at 1/8 of the windows' cost */
+    int rc = fid_windowed_probe(job, job->sample_rate, job->windows, 2, &wd, err, errlen);
+    if (rc == 0 && wd.cold_share > fp->win_max_cold) {
+        snprintf(why, whylen, "windowed's probe of 2 windows: %.1f%% of the fills cold (warm-ups too short)",
+                 100.0 * wd.cold_share);
+        fid_windowed_free(&wd);
+        return 0;
+    }
+    if (rc == 0)
+        rc = fid_windowed_more(job, wd.planned, &wd, err, errlen);
     for (int step = 0; rc == 0; step++) {
         windowed_outcome(job, &wd, o);
         double w = worst(&o->res), npix = (double)job->width * job->height;
@@ -858,7 +868,7 @@ static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *p
             more = (uint32_t)floor(fp->win_max_rate / per / K) * K;
         if (more <= wd.windows)
             break;
-        rc = fid_windowed_run(job, 0, more, &wd, err, errlen);
+        rc = fid_windowed_more(job, more, &wd, err, errlen);
     }
     fid_windowed_free(&wd);
     return rc;

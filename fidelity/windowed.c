@@ -272,6 +272,7 @@ struct fid_win_runs {
     win_piece *win;               /* windows 0..count-1 */
     uint32_t count, cap;
     win_piece lat;                /* the lattice */
+    bool has_lat;
 };
 
 void fid_windowed_free(fid_windowed *w)
@@ -336,51 +337,85 @@ bool fid_windowed_fits(const fid_job *job, double rate, uint32_t windows, char *
     return !w.too_small;
 }
 
-int fid_windowed_run(const fid_job *job, double rate, uint32_t windows, fid_windowed *out, char *err, size_t errlen)
+/* Runs windows r->count..upto-1 (and the lattice when asked and not yet
+ * run) as pieces, keeps them, and estimates when the lattice is there. */
+static int run_more(const fid_job *job, struct fid_win_runs *r, uint32_t upto, bool lattice, fid_windowed *out,
+                    char *err, size_t errlen)
 {
-    struct fid_win_runs *r = out->runs;
-    if (!r) {
-        memset(out, 0, sizeof *out);
-        if (!(r = calloc(1, sizeof *r))) {
-            snprintf(err, errlen, "out of memory");
-            return 2;
-        }
-        out->runs = r;
-        int rc = plan(job, rate, windows, out, &r->pl, err, errlen);
-        if (rc)
-            return rc;
-        windows = out->windows;
-    } else if (windows <= r->count) {
-        estimate(job, r, out);
-        return 0;
-    }
-    /* windows r->count..windows-1, and the lattice the first time */
-    if (windows > r->cap) {
-        win_piece *nw = realloc(r->win, (size_t)windows * sizeof *nw);
+    if (upto > r->cap) {
+        win_piece *nw = realloc(r->win, (size_t)upto * sizeof *nw);
         if (!nw) {
             snprintf(err, errlen, "out of memory");
             return 2;
         }
-        r->win = nw, r->cap = windows;
+        r->win = nw, r->cap = upto;
     }
     win_plan pl = r->pl;
-    pl.first = r->count, pl.count = windows - r->count, pl.lattice = r->count == 0;
-    int n = (int)pl.count + (pl.lattice ? 1 : 0);
-    win_piece *pc = calloc((size_t)n, sizeof *pc);
-    if (!pc) {
+    pl.first = r->count, pl.count = upto > r->count ? upto - r->count : 0, pl.lattice = lattice && !r->has_lat;
+    int n = (int)pl.count + (pl.lattice ? 1 : 0), rc = 0;
+    if (n > 0) {
+        win_piece *pc = calloc((size_t)n, sizeof *pc);
+        if (!pc) {
+            snprintf(err, errlen, "out of memory");
+            return 2;
+        }
+        rc = ks_pool_run(n, job->jobs, sizeof *pc, run_win_piece, &pl, pc, err, errlen);
+        if (rc == 0) {
+            memcpy(r->win + r->count, pc, pl.count * sizeof *pc);
+            if (pl.lattice)
+                r->lat = pc[pl.count], r->has_lat = true;
+            r->count += pl.count;
+        }
+        free(pc);
+    }
+    if (rc == 0) {
+        /* the cold fills, known from any windows; the figures need the lattice */
+        double fills = 0, cold = 0;
+        for (uint32_t i = 0; i < r->count; i++) {
+            fills += (double)(r->win[i].b.backed_fills - r->win[i].a.backed_fills);
+            cold += (double)(r->win[i].b.backed_cold_fills - r->win[i].a.backed_cold_fills);
+        }
+        out->cold_share = fills > 0 ? cold / fills : 0;
+        out->windows = r->count;
+        if (r->has_lat)
+            estimate(job, r, out);
+    }
+    return rc;
+}
+
+static int start(const fid_job *job, double rate, uint32_t windows, fid_windowed *out, char *err, size_t errlen)
+{
+    memset(out, 0, sizeof *out);
+    struct fid_win_runs *r = calloc(1, sizeof *r);
+    if (!r) {
         snprintf(err, errlen, "out of memory");
         return 2;
     }
-    int rc = ks_pool_run(n, job->jobs, sizeof *pc, run_win_piece, &pl, pc, err, errlen);
-    if (rc == 0) {
-        memcpy(r->win + r->count, pc, pl.count * sizeof *pc);
-        if (pl.lattice)
-            r->lat = pc[pl.count];
-        r->count = windows;
-        estimate(job, r, out);
-    }
-    free(pc);
+    out->runs = r;
+    return plan(job, rate, windows, out, &r->pl, err, errlen);
+}
+
+int fid_windowed_run(const fid_job *job, double rate, uint32_t windows, fid_windowed *out, char *err, size_t errlen)
+{
+    int rc = start(job, rate, windows, out, err, errlen);
+    return rc ? rc : run_more(job, out->runs, out->windows, true, out, err, errlen);
+}
+
+int fid_windowed_probe(const fid_job *job, double rate, uint32_t windows, uint32_t count, fid_windowed *out,
+                       char *err, size_t errlen)
+{
+    int rc = start(job, rate, windows, out, err, errlen);
+    if (rc)
+        return rc;
+    uint32_t planned = out->windows;
+    rc = run_more(job, out->runs, count < planned ? count : planned, false, out, err, errlen);
+    out->planned = planned;
     return rc;
+}
+
+int fid_windowed_more(const fid_job *job, uint32_t windows, fid_windowed *out, char *err, size_t errlen)
+{
+    return run_more(job, out->runs, windows, true, out, err, errlen);
 }
 
 /* The frame's figures and their errors from the windows run so far. */

@@ -40,7 +40,8 @@ enum { FID_AUX_PRIMARY, FID_AUX_BOUNCE, FID_AUX_COUNT };
 
 typedef struct fid_windowed {
     /* the plan and what ran */
-    uint32_t windows, warm_pixels, window_pixels;  /* planned per window */
+    uint32_t windows, warm_pixels, window_pixels;  /* windows run (the plan's after fid_windowed_run); pixels per window */
+    uint32_t planned;             /* fid_windowed_probe: the plan's windows */
     double model_pixels;          /* pixels through the cycle model (warm-ups and windows) */
     double measured_pixels;       /* of them, inside the windows */
     double lattice_pixels;        /* pixels traced for the frame's work */
@@ -57,13 +58,20 @@ typedef struct fid_windowed {
     struct fid_win_runs *runs;    /* the windows run so far (owned) */
 } fid_windowed;
 
-/* First call (out->runs NULL): plans and runs the windows. rate: fraction of
- * the frame's pixels through the cycle model (warm-ups included; 0 = the
- * default win_rate); windows: 0 = the default. A later call with more
- * windows adds windows to the same plan (the earlier ones are kept: the
- * window positions are a sequence, see windowed.c) and estimates again;
- * rate is then ignored. fid_windowed_free() frees what runs holds. */
+/* Plans and runs the windows and the lattice, and estimates. rate: fraction
+ * of the frame's pixels through the cycle model (warm-ups included; 0 = the
+ * default win_rate); windows: 0 = the default. fid_windowed_free() frees
+ * what out->runs holds (after any return). */
 int fid_windowed_run(const fid_job *job, double rate, uint32_t windows, fid_windowed *out, char *err, size_t errlen);
+/* Plans the same way but runs only the first `count` windows and no
+ * lattice: out->cold_share says whether the warm-ups suffice before the
+ * rest is spent; out->planned: the plan's windows. No figures yet. */
+int fid_windowed_probe(const fid_job *job, double rate, uint32_t windows, uint32_t count, fid_windowed *out,
+                       char *err, size_t errlen);
+/* Runs windows up to `windows` in all (beyond the plan too: the positions
+ * are a sequence, the earlier windows are kept) and the lattice if not yet
+ * run, and estimates. */
+int fid_windowed_more(const fid_job *job, uint32_t windows, fid_windowed *out, char *err, size_t errlen);
 void fid_windowed_free(fid_windowed *w);
 /* Whether the frame holds the plan without flagging it as too small; why
  * (when not): what is too small. */

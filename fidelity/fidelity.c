@@ -884,21 +884,32 @@ static int run_full(const fid_job *job, fid_outcome *o, char *err, size_t errlen
     return rc;
 }
 
-/* --accuracy: functional when its estimates fit; else sampled, at a rate
- * raised (once) to what its first interval says the bound needs; else full. */
+/* An empty trial outcome for --accuracy (its storage freed first). 0, or -1
+ * with a message when out of memory. */
+static int fresh_trial(fid_outcome *t, double acc, char *err, size_t errlen)
+{
+    free(t->own);
+    memset(t, 0, sizeof *t);
+    if (!(t->own = calloc(1, sizeof *t->own))) {
+        snprintf(err, errlen, "out of memory");
+        return -1;
+    }
+    t->res.accuracy = acc;
+    return 0;
+}
+
+/* --accuracy: windowed when its estimates fit (with more windows if its
+ * interval says so, auto_windowed); else functional when its estimates
+ * fit; else sampled, at a rate raised (once) to what its first interval
+ * says the bound needs; else full (docs/fidelity.md "--accuracy P%"). */
 static int run_auto(const fid_job *job, double acc, fid_outcome *o, char *err, size_t errlen)
 {
     const fid_params *fp = fid_params_get();
     fid_func ff;
     memset(&ff, 0, sizeof ff);
-    fid_outcome trial;
-    memset(&trial, 0, sizeof trial);
-    trial.own = calloc(1, sizeof *trial.own);
-    if (!trial.own) {
-        snprintf(err, errlen, "out of memory");
+    fid_outcome trial = {0};
+    if (fresh_trial(&trial, acc, err, errlen))
         return 2;
-    }
-    trial.res.accuracy = acc;
     char why[400] = "";
     int rc = 0;
     /* A level whose estimate can never come under the target is not tried:
@@ -914,13 +925,8 @@ static int run_auto(const fid_job *job, double acc, fid_outcome *o, char *err, s
         *o = trial;
         return 0;
     }
-    free(trial.own);
-    memset(&trial, 0, sizeof trial);
-    if (!(trial.own = calloc(1, sizeof *trial.own))) {
-        snprintf(err, errlen, "out of memory");
+    if (fresh_trial(&trial, acc, err, errlen))
         return 2;
-    }
-    trial.res.accuracy = acc;
     if (acc >= func_floor) {
         if ((rc = run_functional(job, &trial, &ff, err, errlen)))
             goto out;
@@ -944,13 +950,8 @@ static int run_auto(const fid_job *job, double acc, fid_outcome *o, char *err, s
     }
     double rate = job->sample_rate > 0 ? job->sample_rate : fp->sample_rate;
     for (int attempt = 0; attempt < 2 && acc >= sample_floor; attempt++) {
-        free(trial.own);
-        memset(&trial, 0, sizeof trial);
-        if (!(trial.own = calloc(1, sizeof *trial.own))) {
-            snprintf(err, errlen, "out of memory");
+        if (fresh_trial(&trial, acc, err, errlen))
             return 2;
-        }
-        trial.res.accuracy = acc;
         if ((rc = run_sampled(job, rate, &trial, &ff, err, errlen)))
             goto out;
         double w = worst(&trial.res);

@@ -383,7 +383,7 @@ static int run_more(const fid_job *job, struct fid_win_runs *r, uint32_t upto, b
     return rc;
 }
 
-static int start(const fid_job *job, double rate, uint32_t windows, fid_windowed *out, char *err, size_t errlen)
+static int start_plan(const fid_job *job, double rate, uint32_t windows, fid_windowed *out, char *err, size_t errlen)
 {
     memset(out, 0, sizeof *out);
     struct fid_win_runs *r = calloc(1, sizeof *r);
@@ -397,14 +397,14 @@ static int start(const fid_job *job, double rate, uint32_t windows, fid_windowed
 
 int fid_windowed_run(const fid_job *job, double rate, uint32_t windows, fid_windowed *out, char *err, size_t errlen)
 {
-    int rc = start(job, rate, windows, out, err, errlen);
+    int rc = start_plan(job, rate, windows, out, err, errlen);
     return rc ? rc : run_more(job, out->runs, out->windows, true, out, err, errlen);
 }
 
 int fid_windowed_probe(const fid_job *job, double rate, uint32_t windows, uint32_t count, fid_windowed *out,
                        char *err, size_t errlen)
 {
-    int rc = start(job, rate, windows, out, err, errlen);
+    int rc = start_plan(job, rate, windows, out, err, errlen);
     if (rc)
         return rc;
     uint32_t planned = out->windows;
@@ -462,6 +462,8 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
      * the rows' stratification: 3-6x the spread of the estimate over shifted
      * window sets on interior diffuse) */
     uint32_t K = (uint32_t)fp->win_groups;
+    if (K > 64)
+        K = 64;   /* jk[] below */
     if (K > M / 2)
         K = M / 2 > 1 ? M / 2 : 1;
     double t = fid_t95((int)K - 1), f = fmin(1.0, prim / N);
@@ -472,7 +474,7 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
          * work cost differently (coherent primary rays hit in the caches;
          * DRAM bytes follow the bounces), so one ratio to the total work
          * would carry the windows' mix of the two into the frame */
-        double beta[FID_AUX_COUNT], steady, jk[64], jmean = 0, cs = 0, cs2 = 0, cn = 0;
+        double beta[FID_AUX_COUNT], steady, jk[64] = {0}, jmean = 0, cs = 0, cs2 = 0, cn = 0;
         fit(pc, M, K, -1, k, beta);
         steady = beta[0] * X[0] + beta[1] * X[1];
         for (uint32_t g = 0; g < K && K > 1; g++) {

@@ -844,10 +844,9 @@ static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *p
                  o->res.unreliable ? " (flagged)" : "");
         if (step == 2 || wd.too_small || wd.cold_share > fp->win_max_cold)
             break;
-        /* the interval shrinks as 1 / sqrt(windows); the rest does not. A
-         * 16-window interval (8 groups of 2) overstates the spread about 2x
-         * (interior diffuse: 1.7% at 16 windows, 0.6% at 32, 0.5% at 48), so
-         * the step is at most 4x and the need is trusted only to give up */
+        /* the interval shrinks as 1 / sqrt(windows); the rest does not. The
+         * need from 16 windows (8 pairs) is itself uncertain, so the step
+         * is 2x to 4x and a need beyond twice the limit gives up at once */
         double e[FID_WIN_FIGS], ci[FID_WIN_FIGS], scale = 1;
         windowed_errors(&wd, e, ci);
         for (int k = 0; k < FID_WIN_FIGS; k++) {
@@ -861,11 +860,10 @@ static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *p
         double per = (double)(wd.window_pixels + wd.warm_pixels) / npix;
         if (scale <= 0 || wd.windows * scale * per > 2 * fp->win_max_rate)
             break;
-        uint32_t K = (uint32_t)fp->win_groups;
         double next = fmin(fmax(scale, 2.0), 4.0) * wd.windows;
-        uint32_t more = (uint32_t)ceil(next / K) * K;
+        uint32_t more = (uint32_t)ceil(next / 2) * 2;   /* whole pairs (windowed.c) */
         if (more * per > fp->win_max_rate)
-            more = (uint32_t)floor(fp->win_max_rate / per / K) * K;
+            more = (uint32_t)floor(fp->win_max_rate / per / 2) * 2;
         if (more <= wd.windows)
             break;
         rc = fid_windowed_more(job, more, &wd, err, errlen);

@@ -46,7 +46,6 @@ static const fid_params defaults = {
     .band_rows = 1,                /* 8x8 tiles and 4- or 8-row bands were 5-12% low on primary MRPS (docs/fidelity.md) */
     .win_rate = 0.125,
     .win_count = 16,
-    .win_groups = 8,
     .win_min_count = 8,
     .win_warm_pixels = 4096,
     .win_min_pixels = 256,

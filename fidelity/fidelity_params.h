@@ -39,7 +39,6 @@ typedef struct fid_params {
     /* windowed */
     double win_rate;              /* default fraction of the pixels through the model, warm-ups included */
     int win_count;                /* windows */
-    int win_groups;               /* replicate groups of windows (the interval), at most 64 */
     int win_min_count;            /* fewer windows than this: shorter ones instead */
     double win_warm_pixels;       /* pixels of the warm-up before each window */
     double win_min_pixels;        /* shortest window */

@@ -228,21 +228,14 @@ static double window_fig(const win_piece *w, int k, bool warm)
     return warm ? point_fig(&w->a, k) : point_fig(&w->b, k) - point_fig(&w->a, k);
 }
 
-/* Replicate group of window i of M in K groups: consecutive indices, whose
- * rows are spread over the image (radical_inverse). */
-static uint32_t window_group(uint32_t i, uint32_t M, uint32_t K) { return (uint32_t)((uint64_t)i * K / M); }
-
-/* Coefficients beta of y ~ beta . x over the windows not in group `skip`
- * (-1: none): least squares weighted by 1 / (x1 + x2) (a window's spread
+/* Coefficients beta of y ~ beta . x over the windows: least squares weighted by 1 / (x1 + x2) (a window's spread
  * grows with its work, as a ratio estimator assumes). Falls back to one
  * ratio over the total work when the bounce work is absent (primary rays);
  * a coefficient that would be negative is 0 (the other refitted alone). */
-static void fit(const win_piece *pc, uint32_t M, uint32_t K, int skip, int k, double beta[FID_AUX_COUNT])
+static void fit(const win_piece *pc, uint32_t M, int k, double beta[FID_AUX_COUNT])
 {
     double A[2][2] = {{0, 0}, {0, 0}}, v[2] = {0, 0}, sy = 0, sx = 0;
     for (uint32_t i = 0; i < M; i++) {
-        if ((int)window_group(i, M, K) == skip)
-            continue;
         const double *x = pc[i].x_win, y = window_fig(&pc[i], k, false), wt = x[0] + x[1] > 0 ? 1.0 / (x[0] + x[1]) : 0;
         for (int a = 0; a < 2; a++) {
             v[a] += wt * x[a] * y;
@@ -421,7 +414,6 @@ int fid_windowed_more(const fid_job *job, uint32_t windows, fid_windowed *out, c
 /* The frame's figures and their errors from the windows run so far. */
 static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windowed *out)
 {
-    const fid_params *fp = fid_params_get();
     const win_plan pl = r->pl;
     const uint32_t M = r->count;
     const win_piece *pc = r->win;
@@ -456,17 +448,36 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
     out->measured_pixels = prim;
     out->mean_latency = rays > 0 ? lat_sum / rays : 0;
     out->cold_share = fills > 0 ? cold / fills : 0;
-    /* replicates: K groups of consecutive windows, each a spread-out
-     * sample of the whole image; the interval is the delete-a-group
-     * jackknife's (the formula of a simple random sample of windows ignores
-     * the rows' stratification: 3-6x the spread of the estimate over shifted
-     * window sets on interior diffuse) */
-    uint32_t K = (uint32_t)fp->win_groups;
-    if (K > 64)
-        K = 64;   /* jk[] below */
-    if (K > M / 2)
-        K = M / 2 > 1 ? M / 2 : 1;
-    double t = fid_t95((int)K - 1), f = fmin(1.0, prim / N);
+    /* The windows are a stratified sample, one window per band of rows
+     * (radical_inverse): the interval uses collapsed strata, the windows in
+     * image order paired with their neighbours, each pair's difference of
+     * residuals standing for the spread within its two bands (the formula
+     * of a simple random sample, or a jackknife over groups spread over the
+     * image, counts the differences between distant bands too, which the
+     * stratification removes: 3-6x the spread of the estimate over shifted
+     * window sets on interior diffuse). An odd window out is paired with its
+     * neighbour once more. */
+    uint32_t *order = malloc((size_t)M * sizeof *order);
+    uint64_t *pos = malloc((size_t)M * sizeof *pos);
+    if (!order || !pos) {
+        free(order), free(pos);
+        memset(out->ci, 0, sizeof out->ci);
+        for (int k = 0; k < FID_WIN_FIGS; k++)
+            out->ci[k] = 1.0;   /* no interval: flagged by the bound */
+        return;
+    }
+    for (uint32_t i = 0; i < M; i++) {
+        uint64_t first, st, end;
+        window_range(&pl, i, &first, &st, &end);
+        pos[i] = st, order[i] = i;
+    }
+    for (uint32_t i = 1; i < M; i++)   /* insertion sort: M is small */
+        for (uint32_t j = i; j > 0 && pos[order[j - 1]] > pos[order[j]]; j--) {
+            uint32_t tmp = order[j];
+            order[j] = order[j - 1], order[j - 1] = tmp;
+        }
+    uint32_t npairs = M / 2 + M % 2;
+    double t = fid_t95((int)npairs), f = fmin(1.0, prim / N);
     /* the drain: the last pixel's path ends one path latency after its admission */
     double drain = out->mean_latency * (prim > 0 ? rays / prim : 1.0);
     for (int k = 0; k < FID_WIN_FIGS; k++) {
@@ -474,18 +485,20 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
          * work cost differently (coherent primary rays hit in the caches;
          * DRAM bytes follow the bounces), so one ratio to the total work
          * would carry the windows' mix of the two into the frame */
-        double beta[FID_AUX_COUNT], steady, jk[64] = {0}, jmean = 0, cs = 0, cs2 = 0, cn = 0;
-        fit(pc, M, K, -1, k, beta);
-        steady = beta[0] * X[0] + beta[1] * X[1];
-        for (uint32_t g = 0; g < K && K > 1; g++) {
-            double bg[FID_AUX_COUNT];
-            fit(pc, M, K, (int)g, k, bg);
-            jk[g] = bg[0] * X[0] + bg[1] * X[1];
-            jmean += jk[g] / K;
+        double beta[FID_AUX_COUNT], cs = 0, cs2 = 0, cn = 0, fitted = 0, pvar = 0;
+        fit(pc, M, k, beta);
+        double steady = beta[0] * X[0] + beta[1] * X[1];
+        for (uint32_t i = 0; i < M; i++)
+            fitted += beta[0] * pc[i].x_win[0] + beta[1] * pc[i].x_win[1];
+        for (uint32_t q = 0; q < npairs && M > 1; q++) {
+            uint32_t ia = order[2 * q < M - 1 ? 2 * q : M - 2], ib = order[2 * q < M - 1 ? 2 * q + 1 : M - 1];
+            double ea = window_fig(&pc[ia], k, false) - beta[0] * pc[ia].x_win[0] - beta[1] * pc[ia].x_win[1];
+            double eb = window_fig(&pc[ib], k, false) - beta[0] * pc[ib].x_win[0] - beta[1] * pc[ib].x_win[1];
+            pvar += (ea - eb) * (ea - eb);
         }
-        double jvar = 0;
-        for (uint32_t g = 0; g < K && K > 1; g++)
-            jvar += (jk[g] - jmean) * (jk[g] - jmean) * (K - 1) / K;
+        /* the windows' residual sum scaled to the frame as the fit scales them */
+        double scale = fitted > 0 ? steady / fitted : 0;
+        pvar *= scale * scale;
         /* the warm-up's excess over its steady share: the cost of a cold start */
         for (uint32_t i = 0; i < M; i++) {
             const win_piece *w = &pc[i];
@@ -501,7 +514,7 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
             e += drain;
         else if (k == FID_WIN_ENERGY && cycles_win > 0)
             e += s_static / cycles_win * drain;   /* the drain's static energy */
-        out->ci[k] = e > 0 && K > 1 ? t * sqrt((1.0 - f) * jvar) / e : 1.0;
+        out->ci[k] = e > 0 && M > 1 ? t * sqrt((1.0 - f) * pvar) / e : 1.0;
         out->start_err[k] = e > 0 && cn > 0 ? fid_t95((int)cn - 1) * csd / sqrt(cn) / e : 0;
         /* the lattice's standard error of beta . x per pixel */
         double m = 0, v = 0;
@@ -520,4 +533,6 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
             out->energy_mj = e;
     }
     out->static_mj = cycles_win > 0 ? s_static / cycles_win * out->cycles : 0;
+    free(order);
+    free(pos);
 }

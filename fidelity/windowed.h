@@ -10,16 +10,17 @@
  * the window as the difference of two points of the run (accel_top.h
  * accel_top_run_until): cycles, rays, DRAM bytes and energy.
  *
- * Scaling to the frame: a ratio estimator against the traversal work
- * (node visits + triangle tests of each pixel's path, reference traversal,
- * no timing) of the window's pixels, times the work of the frame estimated
- * from a lattice of 1 pixel in win_lattice; plus the frame's start (the
- * warm-up's excess over its steady share, averaged over the windows: every
- * warm-up starts as cold as the frame does) and its drain (the path
- * latency). Each figure's 95% interval comes from the windows' spread about
- * the ratio (Student t), the lattice's standard error and the start
- * correction's spread; a warm-up bias bound from the fills into never-used
- * cache ways inside the windows (a warm cache would have had a line there).
+ * Scaling to the frame: each figure fitted on the windows against the
+ * traversal work (node visits + triangle tests, reference traversal, no
+ * timing) of each pixel's primary ray and of its bounces, applied to the
+ * frame's work estimated from a lattice of 1 pixel in win_lattice; plus the
+ * frame's start (the warm-up's excess over its fit, averaged over the
+ * windows: every warm-up starts as cold as the frame does) and its drain
+ * (the path latency). Each figure's 95% interval comes from the windows'
+ * residuals paired with their neighbours in the image (collapsed strata,
+ * Student t), the lattice's standard error and the start correction's
+ * spread; a warm-up bias bound from the fills into never-used cache ways
+ * inside the windows (a warm cache would have had a line there).
  *
  * Contract: fid_windowed_run() fills *out; deterministic whatever job->jobs
  * (the windows and the lattice are independent pieces, kernel/fork_pool.h).

@@ -14,8 +14,8 @@
 #include "fidelity/windowed.h"
 #include "model/mem/memsys_config.h"
 
-static const char *const level_names[FID_LEVEL_COUNT] = {"full", "fixed-mem", "functional", "sampled",
-                                                                      "windowed"};
+static const char *const level_names[FID_LEVEL_COUNT] = {"full",    "fixed-mem", "functional",
+                                                         "sampled", "windowed"};
 
 const char *fid_level_name(fid_level l) { return l < FID_LEVEL_COUNT ? level_names[l] : "?"; }
 

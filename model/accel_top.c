@@ -266,10 +266,10 @@ static void add_fifo_activity(energy_activity *a, int j, const ks_stats *st, con
     a->fifo_writes[j] += stat_named(st, "fifo.%s.writes", name);
 }
 
-/* Activity of the run, from the statistics registry. */
-/* The energy activity of the run so far: every count the energy model
- * prices, seconds of frame time, DRAM energy up to the DRAM port's statistics
- * end (the current time until finish_stats sets it) and dram_bytes. */
+/* The energy activity of the run so far, from the statistics registry:
+ * every count the energy model prices, seconds of frame time, DRAM energy
+ * up to the DRAM port's statistics end (the current time until
+ * finish_stats sets it) and dram_bytes. */
 static void gather_activity(accel_top *t, double seconds, double dram_bytes, energy_activity *out)
 {
     energy_model *em = t->energy;

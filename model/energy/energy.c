@@ -172,11 +172,11 @@ void energy_activity_between(const energy_activity *from, const energy_activity 
     out->seconds -= from->seconds;
     out->trv_flops -= from->trv_flops, out->ist_flops -= from->ist_flops;
     out->stack_reads -= from->stack_reads, out->stack_writes -= from->stack_writes;
-    for (int i = 0; i < 3; i++) {
+    for (size_t i = 0; i < sizeof out->cache_reads / sizeof out->cache_reads[0]; i++) {
         out->cache_reads[i] -= from->cache_reads[i];
         out->cache_writes[i] -= from->cache_writes[i];
     }
-    for (int i = 0; i < 24; i++) {
+    for (size_t i = 0; i < sizeof out->fifo_reads / sizeof out->fifo_reads[0]; i++) {
         out->fifo_reads[i] -= from->fifo_reads[i];
         out->fifo_writes[i] -= from->fifo_writes[i];
     }

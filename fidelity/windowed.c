@@ -461,7 +461,6 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
     uint64_t *pos = malloc((size_t)M * sizeof *pos);
     if (!order || !pos) {
         free(order), free(pos);
-        memset(out->ci, 0, sizeof out->ci);
         for (int k = 0; k < FID_WIN_FIGS; k++)
             out->ci[k] = 1.0;   /* no interval: flagged by the bound */
         return;

@@ -270,10 +270,11 @@ static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admi
         double now = wall();
         if (now - p->last >= p->every) {
             p->last = now;
-            fprintf(stderr, "rtsim: progress: cycle %llu (~%.0f%% of the estimate), %llu rays done, %llu/%llu "
-                            "primaries admitted, %.0f s\n",
-                    (unsigned long long)cycle, p->est_cycles > 0 ? 100.0 * (double)cycle / p->est_cycles : 0.0,
-                    (unsigned long long)done, (unsigned long long)(admitted < p->total ? admitted : p->total),
+            char of_est[48] = "";   /* a cheaper level's full run has no estimate */
+            if (p->est_cycles > 0)
+                snprintf(of_est, sizeof of_est, " (~%.0f%% of the estimate)", 100.0 * (double)cycle / p->est_cycles);
+            fprintf(stderr, "rtsim: progress: cycle %llu%s, %llu rays done, %llu/%llu primaries admitted, %.0f s\n",
+                    (unsigned long long)cycle, of_est, (unsigned long long)done, (unsigned long long)(admitted < p->total ? admitted : p->total),
                     (unsigned long long)p->total, now - p->t0);
             fflush(stderr);
         }
@@ -299,6 +300,32 @@ static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admi
     else
         fprintf(stderr, "\r[%s] %3.0f%%  cycle %llu  rays %llu  ETA %.0fs   ", bar, 100.0 * frac,
                 (unsigned long long)cycle, (unsigned long long)done, eta);
+    fflush(stderr);
+}
+
+/* Progress of a cheaper level's independent pieces (kernel/fork_pool.h):
+ * the bar, or with --progress off a terminal a line every few seconds. */
+static void pieces_cb(void *user, int done, int total)
+{
+    progress_state *p = user;
+    double now = wall();
+    if (p->lines) {
+        if (now - p->last >= p->every || done == total) {
+            p->last = now;
+            fprintf(stderr, "rtsim: progress: %d of %d pieces done (windows, groups, passes), %.0f s\n", done,
+                    total, now - p->t0);
+            fflush(stderr);
+        }
+        return;
+    }
+    if (!p->on)
+        return;
+    int bars = total > 0 ? done * 30 / total : 30;
+    char bar[31];
+    for (int i = 0; i < 30; i++)
+        bar[i] = i < bars ? '#' : '.';
+    bar[30] = 0;
+    fprintf(stderr, "\r[%s] %d/%d pieces  %.0fs   ", bar, done, total, now - p->t0);
     fflush(stderr);
 }
 
@@ -438,13 +465,30 @@ static void fill_run(job *j)
 static int run_fidelity(job *j)
 {
     const options *o = j->o;
+    /* progress: of the pieces (pieces_cb), and of a whole-frame run of the
+     * model (fixed-mem's last run, --accuracy's fallback to full) */
+    progress_state ps = {!o->quiet && isatty(2), o->progress && !isatty(2), 0, 0, 0, (uint64_t)j->w * j->h, wall(),
+                         NULL};
+    rtsim_estimate_params ep;
+    char eerr[1200];
+    if (rtsim_estimate_load(&ep, eerr, sizeof eerr))
+        ps.every = ep.progress_s;
+    else if (ps.lines) {
+        fprintf(stderr, "rtsim: warning: no progress lines: %s\n", eerr);
+        ps.lines = false;
+    }
+    ps.last = ps.t0;
     fid_job job = {j->cfg, &j->sc.mesh, j->view, &j->img, j->w, j->h, o->diffuse, (uint32_t)o->bounces, o->seed,
-                   o->sample_rate, NULL, NULL, (int)o->jobs, (uint32_t)o->windows};
+                   o->sample_rate, progress_cb, &ps, (int)o->jobs, (uint32_t)o->windows};
     fid_outcome fo;
     fill_run(j);
     double t0 = wall(), c0 = cpu(), w0 = ks_pool_children_cpu_s();
     uint64_t forked0 = ks_pool_workers_forked();
+    ks_pool_set_progress(pieces_cb, &ps);
     int rc = fid_run(&job, (fid_level)o->level, o->accuracy, &fo, j->err, sizeof j->err);
+    ks_pool_set_progress(NULL, NULL);
+    if (ps.on)
+        fprintf(stderr, "\r%70s\r", "");
     double host_s = wall() - t0, cpu_s = cpu() - c0, worker_s = ks_pool_children_cpu_s() - w0;
     uint64_t workers = ks_pool_workers_forked() - forked0;
     if (rc && ks_interrupted()) {

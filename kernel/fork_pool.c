@@ -34,6 +34,17 @@ typedef struct pool_worker {
 } pool_worker;
 
 static uint64_t g_forked;
+static ks_pool_progress_fn g_progress;
+static void *g_progress_user;
+
+void ks_pool_set_progress(ks_pool_progress_fn fn, void *user) { g_progress = fn, g_progress_user = user; }
+
+/* A piece ended (in this process or a worker): tell the progress hook. */
+static void piece_done(int done, int n)
+{
+    if (g_progress)
+        g_progress(g_progress_user, done, n);
+}
 
 uint64_t ks_pool_workers_forked(void) { return g_forked; }
 
@@ -61,6 +72,7 @@ static int run_in_process(int n, size_t size, ks_pool_fn fn, void *user, void *r
         int rc = fn(user, i, (unsigned char *)results + (size_t)i * size, err, errlen);
         if (rc)
             return rc;
+        piece_done(i + 1, n);
     }
     return 0;
 }
@@ -164,7 +176,7 @@ int ks_pool_run(int n, int jobs, size_t result_size, ks_pool_fn fn, void *user, 
     for (int k = 0; k < jobs; k++)
         w[k].fd = -1;
     int fail_rc = 0, fail_index = n;   /* the lowest-indexed failure so far */
-    int next = 0, running = 0, rc = 0;
+    int next = 0, running = 0, rc = 0, done = 0;
     bool was_polling = ks_interrupt_polling(true);   /* a signal is recorded: we stop the workers */
     const pid_t self = getpid();
     for (;;) {
@@ -265,6 +277,7 @@ int ks_pool_run(int n, int jobs, size_t result_size, ks_pool_fn fn, void *user, 
             free(x->buf);
             x->buf = NULL, x->pid = 0;
             running--;
+            piece_done(++done, n);
         }
     }
     rc = fail_rc;

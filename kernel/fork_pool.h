@@ -46,6 +46,12 @@ typedef int (*ks_pool_fn)(void *user, int index, void *result, char *err, size_t
 int ks_pool_run(int n, int jobs, size_t result_size, ks_pool_fn fn, void *user, void *results, char *err,
                 size_t errlen);
 
+/* Progress: after each piece ends (in this process or in a worker, seen
+ * from this process), fn(user, pieces ended, pieces of the run) is called;
+ * NULL removes it. One hook per process, as there is one pool at a time. */
+typedef void (*ks_pool_progress_fn)(void *user, int done, int total);
+void ks_pool_set_progress(ks_pool_progress_fn fn, void *user);
+
 /* The CPUs this process may run on (sched_getaffinity: honours taskset and
  * cgroup cpusets), at least 1; the online CPUs when that fails. */
 int ks_pool_cpus(void);

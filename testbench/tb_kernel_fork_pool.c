@@ -22,6 +22,18 @@ typedef struct piece_res {
 static int g_touched;   /* written by pieces: lost when they run in workers */
 
 /* A deterministic function of the index, with some work in it. */
+typedef struct progress_seen {
+    int calls, last_done, total;
+    bool rising;
+} progress_seen;
+
+static void count_progress(void *user, int done, int total)
+{
+    progress_seen *p = user;
+    p->rising = p->rising && done == p->last_done + 1;
+    p->calls++, p->last_done = done, p->total = total;
+}
+
 static int work_piece(void *user, int index, void *result, char *err, size_t errlen)
 {
     (void)err, (void)errlen;
@@ -101,6 +113,23 @@ int main(void)
         TB_EQ_INT(g_touched, 0);   /* the workers' own writes stay in the workers */
         TB_EQ_INT(ks_pool_workers_forked() - forked0, N);
         TB_CHECK(ks_pool_children_cpu_s() >= cpu0, "children's CPU went down");
+        tb_end();
+    }
+
+    /* the progress hook: called once per piece, the count rising to N, in
+     * this process whether the pieces ran here or in workers */
+    for (int jobs = 1; jobs <= 3; jobs += 2) {
+        char name[64];
+        snprintf(name, sizeof name, "pool_%d_progress_hook_per_piece", jobs);
+        tb_begin(name);
+        progress_seen ps = {0, 0, 0, true};
+        ks_pool_set_progress(count_progress, &ps);
+        TB_EQ_INT(ks_pool_run(N, jobs, sizeof(piece_res), work_piece, NULL, got, err, sizeof err), 0);
+        ks_pool_set_progress(NULL, NULL);
+        TB_EQ_INT(ps.calls, N);
+        TB_EQ_INT(ps.last_done, N);
+        TB_EQ_INT(ps.total, N);
+        TB_CHECK(ps.rising, "the count of pieces ended did not rise by one per call");
         tb_end();
     }
 

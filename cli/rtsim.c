@@ -540,9 +540,7 @@ static void announce(job *j, progress_state *ps)
     }
     const accel_params *ap = accel_top_params(j->top);
     rt_trv_params tp;
-    rt_trv_params_default(&tp, j->img.width);
-    tp.stack_depth = (int)ap->trv.core.stack_depth;
-    tp.distance_cull = ap->trv.core.distance_cull;
+    rtsim_trv_params(ap, j->img.width, &tp);
     rtsim_estimate est;
     rtsim_estimate_frame(&ep, &j->frame, &j->img, &tp, ap->trv_count, o->exhaustive, &est);
     if (o->progress || est.host_s >= ep.announce_s) {

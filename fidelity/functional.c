@@ -253,12 +253,9 @@ int fid_functional_run(const fid_job *job, const uint32_t *pixels, uint32_t npix
         return -1;
     }
     out->ntrv = ntrv;
-    rt_trv_params_default(&st.tp, job->img->width);
-    st.tp.stack_depth = (int)rtcfg_int(cfg, "trv.stack_depth");
-    /* the distance stack as the machine has it (accel_config: auto = N > 2) */
     accel_params ap;
     accel_params_get(cfg, &ap);
-    st.tp.distance_cull = ap.trv.core.distance_cull;
+    rtsim_trv_params(&ap, job->img->width, &st.tp);
     accel_source src;
     int rc = -1;
     uint32_t nslots = ntrv * per;

@@ -37,20 +37,13 @@ typedef struct path_tracer {
 
 static int path_tracer_init(path_tracer *pt, const fid_job *job, char *err, size_t errlen)
 {
-    rtsim_frame frame;
-    accel_source src;
-    if (!rtsim_frame_init(&frame, job->mesh, job->view, job->width, job->height, job->diffuse, job->bounces,
-                          job->seed, false, &src, err, errlen))
-        return 2;
     memset(pt, 0, sizeof *pt);
     pt->job = job;
-    pt->cam = frame.cam;
-    rtsim_frame_free(&frame);
-    rt_trv_params_default(&pt->tp, job->img->width);
+    if (!rt_camera_init(&pt->cam, job->view, job->width, job->height, err, errlen))
+        return 2;
     accel_params ap;
     accel_params_get(job->cfg, &ap);
-    pt->tp.stack_depth = (int)ap.trv.core.stack_depth;
-    pt->tp.distance_cull = ap.trv.core.distance_cull;   /* as the machine has it */
+    rtsim_trv_params(&ap, job->img->width, &pt->tp);
     return 0;
 }
 

@@ -27,6 +27,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "model/accel_config.h"
 #include "model/ray/accel_ray.h"
 #include "model/ray/scheduler.h"
 #include "tracer/bounce.h"
@@ -66,6 +67,9 @@ void rtsim_frame_complete(void *user, uint32_t uid, const accel_ray_in *in, cons
                                         bool failed);
 /* The model's view of a tracer memory image. */
 accel_image rtsim_image(const rt_bvh_image *img);
+/* The reference traversal's parameters as the machine ap runs it (its
+ * stack depth and distance stack), for a BVH of the given width. */
+void rtsim_trv_params(const accel_params *ap, int width, rt_trv_params *out);
 /* Sets up the source; keep_pixels allocates the heatmap buffer. */
 bool rtsim_frame_init(rtsim_frame *f, const rt_mesh *mesh, const rt_view *view, uint32_t width,
                                     uint32_t height, bool diffuse, uint32_t max_bounces, uint64_t seed,

@@ -766,7 +766,8 @@ static void windowed_outcome(const fid_job *job, const fid_windowed *wd, fid_out
     double npix = (double)job->width * job->height;
     snprintf(r->detail, sizeof r->detail,
              "windowed: the full model on %u windows of %u pixels, each after %u warm-up pixels (%.1f%% of the "
-             "pixels through the model), scaled by the traversal work of 1 pixel in %d; 95%% interval of the "
+             "pixels through the model), scaled by the traversal work and functional DRAM lines of 1 pixel in %d; "
+             "95%% interval of the "
              "windows MRPS %.1f%%, DRAM %.1f%%, mJ %.1f%%; cold fills %.1f%%",
              wd->windows, wd->window_pixels, wd->warm_pixels, 100.0 * wd->model_pixels / npix, fp->win_lattice,
              100.0 * ci[0], 100.0 * ci[1], 100.0 * ci[2], 100.0 * wd->cold_share);

@@ -43,7 +43,8 @@ typedef struct fid_params {
     double win_warm_pixels;       /* pixels of the warm-up before each window */
     double win_min_pixels;        /* shortest window */
     double win_tail_pixels;       /* pixels queued after a window so the pipeline stays full to its end */
-    int win_lattice;              /* 1 pixel in this many traced for the frame's work */
+    int win_lattice;              /* 1 pixel in this many through the functional level for the frame's
+                                     auxiliary figures */
     double win_err_floor;         /* added to every estimate: boundary effects of the windows */
     double win_max_cold;          /* share of cold fills in the windows beyond which the warm-ups are too short */
     double win_max_rate;          /* --accuracy: most of the frame the windows may take before full is cheaper */

@@ -24,6 +24,8 @@ typedef struct fn_slot {
     uint32_t n, cap, next;
     rt_ray ray;
     rt_hit hit;
+    uint32_t path;                /* index of its pixel in the run's pixel list */
+    bool bounce;                  /* the ray is a bounce of that pixel's path */
 } fn_slot;
 
 typedef struct fn_state {
@@ -40,6 +42,8 @@ typedef struct fn_state {
     uint32_t l2_line;
     fid_func *out;
     fn_slot *cur;                 /* slot being traced (event callback) */
+    fid_func_attr *attr;          /* per pixel of the list (NULL: not asked) */
+    fid_func_attr *owner;         /* the path the access being served is charged to */
     bool oom;
 } fn_state;
 
@@ -82,6 +86,10 @@ static void trace_slot(fn_state *st, fn_slot *s, uint32_t trv)
     o->pushes += c.pushes, o->pops += c.pops, o->culls += c.culls;
     o->trv_visits[trv] += c.visits;
     o->trv_leaves[trv] += c.leaves;
+    if (st->attr) {
+        st->attr[s->path][s->bounce ? FID_ATTR_BOUNCE : FID_ATTR_PRIMARY] += (float)(c.visits + c.tri_tests);
+        st->attr[s->path][FID_ATTR_RAYS] += 1.0f;
+    }
     s->busy = true;
 }
 
@@ -90,6 +98,8 @@ static void dram_read(fn_state *st, uint64_t addr, uint32_t bytes)
 {
     st->out->dram_bytes += bytes;
     st->out->dram_lines++;
+    if (st->owner)
+        (*st->owner)[FID_ATTR_DRAM_LINES] += 1.0f;
     dram_addr a;
     dram_addrmap_decode(&st->map, addr, &a);
     uint32_t b = (a.channel * (uint32_t)st->spec.ranks + a.rank) * (uint32_t)st->spec.banks + a.bank;
@@ -240,9 +250,18 @@ void fid_functional_retime(const fid_job *job, fid_func *f, double miss_scale)
 int fid_functional_run(const fid_job *job, const uint32_t *pixels, uint32_t npix, fid_func *out, char *err,
                        size_t errlen)
 {
+    return fid_functional_run_attributed(job, pixels, npix, out, NULL, err, errlen);
+}
+
+int fid_functional_run_attributed(const fid_job *job, const uint32_t *pixels, uint32_t npix, fid_func *out,
+                                  fid_func_attr *attr, char *err, size_t errlen)
+{
     fn_state st;
     memset(&st, 0, sizeof st);
     memset(out, 0, sizeof *out);
+    if (attr && pixels)
+        memset(attr, 0, (size_t)npix * sizeof *attr);
+    st.attr = pixels ? attr : NULL;
     st.job = job;
     st.img = job->img;
     st.out = out;
@@ -304,6 +323,7 @@ int fid_functional_run(const fid_job *job, const uint32_t *pixels, uint32_t npix
                 rt_ray nx;
                 if (job->diffuse && rt_bounce_ray(job->mesh, &s->ray, &s->hit, job->seed, job->bounces, &nx)) {
                     s->ray = nx;
+                    s->bounce = true;
                     out->bounces++;
                     trace_slot(&st, s, trv);
                     busy++;
@@ -312,6 +332,7 @@ int fid_functional_run(const fid_job *job, const uint32_t *pixels, uint32_t npix
             }
             if (next_primary < total) {
                 uint64_t p = pixels ? pixels[next_primary] : next_primary;
+                s->path = (uint32_t)next_primary, s->bounce = false;
                 next_primary++;
                 s->ray = rt_camera_primary_ray(&st.frame.cam, (uint32_t)(p % job->width), (uint32_t)(p / job->width));
                 out->primaries++;
@@ -328,8 +349,10 @@ int fid_functional_run(const fid_job *job, const uint32_t *pixels, uint32_t npix
         /* one round: the next access of every busy slot */
         for (uint32_t k = 0; k < nslots; k++) {
             fn_slot *s = &slots[k];
-            if (s->busy && s->next < s->n)
+            if (s->busy && s->next < s->n) {
+                st.owner = st.attr ? &st.attr[s->path] : NULL;
                 do_access(&st, &s->acc[s->next++], k % ntrv);
+            }
         }
     }
     for (uint32_t i = 0; i < ntrv; i++) {

@@ -52,6 +52,18 @@ typedef struct fid_func {
 int fid_functional_run(const fid_job *job, const uint32_t *pixels, uint32_t npix, fid_func *out, char *err,
                        size_t errlen);
 
+/* What the run charged to each pixel's path: the traversal work (node
+ * visits + triangle tests) of its primary ray and of its bounces, the DRAM
+ * lines its rays' misses brought in (a miss is the ray's that made it) and
+ * its rays. */
+enum { FID_ATTR_PRIMARY, FID_ATTR_BOUNCE, FID_ATTR_DRAM_LINES, FID_ATTR_RAYS, FID_ATTR_COUNT };
+typedef float fid_func_attr[FID_ATTR_COUNT];
+
+/* fid_functional_run with attr[i] (npix of them, zeroed here) filled for
+ * pixels[i] (pixels not NULL). */
+int fid_functional_run_attributed(const fid_job *job, const uint32_t *pixels, uint32_t npix, fid_func *out,
+                                  fid_func_attr *attr, char *err, size_t errlen);
+
 /* Recomputes the throughput model of f's counts with every miss's wait
  * multiplied by miss_scale (sampled: fitted so that the functional cycles
  * of a sample match the cycle model's). */

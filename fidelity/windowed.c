@@ -7,6 +7,7 @@
 #include <string.h>
 
 #include "fidelity/fidelity_params.h"
+#include "fidelity/functional.h"
 #include "fidelity/subset.h"
 #include "kernel/fork_pool.h"
 #include "model/ray/accel_ray.h"
@@ -55,7 +56,7 @@ static void path_aux(const path_tracer *pt, uint32_t p, double x[FID_AUX_COUNT],
     const fid_job *job = pt->job;
     rt_ray ray = rt_camera_primary_ray(&pt->cam, p % job->width, p / job->width), next;
     rt_hit hit;
-    x[FID_AUX_PRIMARY] = x[FID_AUX_BOUNCE] = 0;
+    x[FID_AUX_PRIMARY] = x[FID_AUX_BOUNCE] = x[FID_AUX_DRAM_LINES] = 0;
     *rays = 0;
     for (;;) {
         rt_trv_counts c = {0};
@@ -73,7 +74,6 @@ static void path_aux(const path_tracer *pt, uint32_t p, double x[FID_AUX_COUNT],
 typedef struct win_plan {
     const fid_job *job;
     uint32_t first, count;        /* pieces first..first+count-1 are windows */
-    bool lattice;                 /* and piece `count` is the lattice */
     uint32_t warm, len, lattice_period;
     uint64_t npix;
 } win_plan;
@@ -82,10 +82,17 @@ typedef struct win_plan {
 typedef struct win_piece {
     accel_point a, b;             /* after the warm-up; after the window */
     double e_warm, e_win, s_win;  /* energy (mJ) of the warm-up and the window, the window's static part */
-    double x_warm[FID_AUX_COUNT], x_win[FID_AUX_COUNT]; /* auxiliary figures of their pixels */
-    /* the lattice piece */
-    double lat_n, lat_x[FID_AUX_COUNT], lat_xx[FID_AUX_COUNT][FID_AUX_COUNT], lat_r, lat_r2;
+    double x_warm[FID_AUX_COUNT], x_win[FID_AUX_COUNT]; /* auxiliary figures of their pixels (the
+                                   * lattice's DRAM lines filled in by the estimate) */
 } win_piece;
+
+/* The lattice: the frame's auxiliary figures, from 1 pixel in win_lattice
+ * through the functional level. */
+typedef struct win_lattice {
+    double n, x[FID_AUX_COUNT], xx[FID_AUX_COUNT][FID_AUX_COUNT], r, r2;
+    double *cum;                  /* cum[p]: DRAM lines of the lattice's pixels before pixel p */
+    uint32_t *ncum;               /* ncum[p]: lattice pixels before pixel p */
+} win_lattice;
 
 /* The radical inverse of i in base 2 (van der Corput): the first 2^k values
  * split [0, 1) into 2^k equal strata, one value in each, and the next ones
@@ -124,26 +131,62 @@ static void window_range(const win_plan *pl, uint32_t i, uint64_t *first, uint64
     *end = e < pl->npix ? e : pl->npix;
 }
 
-static int run_lattice(const win_plan *pl, win_piece *r, char *err, size_t errlen)
+static bool on_lattice(const win_plan *pl, uint64_t p)
 {
-    path_tracer pt;
-    if (path_tracer_init(&pt, pl->job, err, errlen))
+    /* a diagonal lattice: every row and every column is sampled */
+    uint32_t w = pl->job->width;
+    return (p % w + 5 * (p / w)) % pl->lattice_period == 0;
+}
+
+/* The lattice's pixels in scanline order through the functional level
+ * (functional.h: the model's caches, 128 rays in flight), each pixel's work,
+ * rays and DRAM lines charged to it. */
+static int run_lattice(const win_plan *pl, win_lattice *lat, char *err, size_t errlen)
+{
+    uint64_t N = pl->npix, n = 0;
+    for (uint64_t p = 0; p < N; p++)
+        n += on_lattice(pl, p);
+    uint32_t *px = malloc((size_t)(n ? n : 1) * sizeof *px);
+    fid_func_attr *attr = malloc((size_t)(n ? n : 1) * sizeof *attr);
+    lat->cum = malloc((size_t)(N + 1) * sizeof *lat->cum);
+    lat->ncum = malloc((size_t)(N + 1) * sizeof *lat->ncum);
+    if (!px || !attr || !lat->cum || !lat->ncum) {
+        free(px), free(attr);
+        snprintf(err, errlen, "out of memory");
         return 2;
-    uint32_t w = pl->job->width, P = pl->lattice_period;
-    for (uint64_t p = 0; p < pl->npix; p++) {
-        /* a diagonal lattice: every row and every column is sampled */
-        if ((p % w + 5 * (p / w)) % P != 0)
+    }
+    n = 0;
+    for (uint64_t p = 0; p < N; p++)
+        if (on_lattice(pl, p))
+            px[n++] = (uint32_t)p;
+    fid_func f;
+    int rc = fid_functional_run_attributed(pl->job, px, (uint32_t)n, &f, attr, err, errlen) ? 2 : 0;
+    uint64_t k = 0;
+    lat->cum[0] = 0, lat->ncum[0] = 0;
+    for (uint64_t p = 0; rc == 0 && p < N; p++) {
+        lat->cum[p + 1] = lat->cum[p], lat->ncum[p + 1] = lat->ncum[p];
+        if (k >= n || px[k] != p)
             continue;
-        double rays, x[FID_AUX_COUNT];
-        path_aux(&pt, (uint32_t)p, x, &rays);
-        r->lat_n += 1, r->lat_r += rays, r->lat_r2 += rays * rays;
-        for (int a = 0; a < FID_AUX_COUNT; a++) {
-            r->lat_x[a] += x[a];
-            for (int b = 0; b < FID_AUX_COUNT; b++)
-                r->lat_xx[a][b] += x[a] * x[b];
+        const float *a = attr[k++];
+        double x[FID_AUX_COUNT] = {a[FID_ATTR_PRIMARY], a[FID_ATTR_BOUNCE], a[FID_ATTR_DRAM_LINES]}, rays = a[FID_ATTR_RAYS];
+        lat->cum[p + 1] += x[FID_AUX_DRAM_LINES], lat->ncum[p + 1] += 1;
+        lat->n += 1, lat->r += rays, lat->r2 += rays * rays;
+        for (int i = 0; i < FID_AUX_COUNT; i++) {
+            lat->x[i] += x[i];
+            for (int j = 0; j < FID_AUX_COUNT; j++)
+                lat->xx[i][j] += x[i] * x[j];
         }
     }
-    return 0;
+    free(px);
+    free(attr);
+    return rc;
+}
+
+/* The lattice's DRAM lines over pixels [lo, hi), scaled to all of them. */
+static double lattice_lines(const win_lattice *lat, uint64_t lo, uint64_t hi)
+{
+    uint32_t c = lat->ncum[hi] - lat->ncum[lo];
+    return c ? (lat->cum[hi] - lat->cum[lo]) * (double)(hi - lo) / c : 0.0;
 }
 
 static int run_window(const win_plan *pl, uint32_t i, win_piece *r, char *err, size_t errlen)
@@ -183,7 +226,7 @@ static int run_window(const win_plan *pl, uint32_t i, win_piece *r, char *err, s
         for (uint64_t k = 0; rc == 0 && k < r->b.primaries && k < n; k++) {
             double rays, x[FID_AUX_COUNT];
             path_aux(&pt, map[k], x, &rays);
-            for (int a = 0; a < FID_AUX_COUNT; a++) {
+            for (int a = 0; a < FID_AUX_DRAM_LINES; a++) {
                 if (k < r->a.primaries)
                     r->x_warm[a] += x[a];
                 else
@@ -201,8 +244,6 @@ static int run_win_piece(void *user, int index, void *result, char *err, size_t 
     const win_plan *pl = user;
     win_piece *r = result;
     memset(r, 0, sizeof *r);
-    if ((uint32_t)index == pl->count)
-        return run_lattice(pl, r, err, errlen);
     return run_window(pl, pl->first + (uint32_t)index, r, err, errlen);
 }
 
@@ -221,35 +262,90 @@ static double window_fig(const win_piece *w, int k, bool warm)
     return warm ? point_fig(&w->a, k) : point_fig(&w->b, k) - point_fig(&w->a, k);
 }
 
-/* Coefficients beta of y ~ beta . x over the windows: least squares weighted by 1 / (x1 + x2) (a window's spread
- * grows with its work, as a ratio estimator assumes). Falls back to one
- * ratio over the total work when the bounce work is absent (primary rays);
- * a coefficient that would be negative is 0 (the other refitted alone). */
-static void fit(const win_piece *pc, uint32_t M, int k, double beta[FID_AUX_COUNT])
+static double dot(const double beta[FID_AUX_COUNT], const double x[FID_AUX_COUNT])
 {
-    double A[2][2] = {{0, 0}, {0, 0}}, v[2] = {0, 0}, sy = 0, sx = 0;
+    double v = 0;
+    for (int a = 0; a < FID_AUX_COUNT; a++)
+        v += beta[a] * x[a];
+    return v;
+}
+
+/* Coefficients beta of y ~ beta . x over the windows: least squares weighted
+ * by 1 / (x_primary + x_bounce) (a window's spread grows with its work, as a
+ * ratio estimator assumes), no coefficient negative (non-negative least
+ * squares: of the fits on each subset of the figures whose coefficients are
+ * all >= 0, the one with the least residual sum). Falls back to one ratio
+ * over the total work when no subset fits. Returns how many coefficients
+ * are not 0. */
+static int fit(const double (*x)[FID_AUX_COUNT], const double *y, uint32_t M, double beta[FID_AUX_COUNT])
+{
+    double A[FID_AUX_COUNT][FID_AUX_COUNT] = {{0}}, v[FID_AUX_COUNT] = {0}, sy = 0, sx = 0;
     for (uint32_t i = 0; i < M; i++) {
-        const double *x = pc[i].x_win, y = window_fig(&pc[i], k, false), wt = x[0] + x[1] > 0 ? 1.0 / (x[0] + x[1]) : 0;
-        for (int a = 0; a < 2; a++) {
-            v[a] += wt * x[a] * y;
-            for (int b = 0; b < 2; b++)
-                A[a][b] += wt * x[a] * x[b];
+        double w = x[i][FID_AUX_PRIMARY] + x[i][FID_AUX_BOUNCE], wt = w > 0 ? 1.0 / w : 0;
+        for (int a = 0; a < FID_AUX_COUNT; a++) {
+            v[a] += wt * x[i][a] * y[i];
+            for (int b = 0; b < FID_AUX_COUNT; b++)
+                A[a][b] += wt * x[i][a] * x[i][b];
         }
-        sy += y, sx += x[0] + x[1];
+        sy += y[i], sx += w;
     }
-    double det = A[0][0] * A[1][1] - A[0][1] * A[1][0];
-    if (A[1][1] > 0 && fabs(det) > 1e-12 * A[0][0] * A[1][1]) {
-        beta[0] = (v[0] * A[1][1] - v[1] * A[0][1]) / det;
-        beta[1] = (v[1] * A[0][0] - v[0] * A[1][0]) / det;
-        if (beta[0] >= 0 && beta[1] >= 0)
-            return;
-        /* non-negative least squares: the negative one is 0 */
-        int z = beta[0] < 0 ? 0 : 1, o = 1 - z;
-        beta[z] = 0;
-        beta[o] = A[o][o] > 0 ? fmax(0.0, v[o] / A[o][o]) : 0;
-        return;
+    double best = INFINITY;
+    int used = 0;
+    for (unsigned set = 1; set < 1u << FID_AUX_COUNT; set++) {
+        /* the normal equations on the subset, Gauss-Jordan with partial pivoting */
+        int idx[FID_AUX_COUNT], m = 0;
+        for (int a = 0; a < FID_AUX_COUNT; a++)
+            if (set >> a & 1)
+                idx[m++] = a;
+        double S[FID_AUX_COUNT][FID_AUX_COUNT + 1];
+        for (int i = 0; i < m; i++) {
+            for (int j = 0; j < m; j++)
+                S[i][j] = A[idx[i]][idx[j]];
+            S[i][m] = v[idx[i]];
+        }
+        bool ok = true;
+        for (int c = 0; c < m && ok; c++) {
+            int piv = c;
+            for (int i = c + 1; i < m; i++)
+                if (fabs(S[i][c]) > fabs(S[piv][c]))
+                    piv = i;
+            if (!(fabs(S[piv][c]) > 1e-12 * A[idx[c]][idx[c]]) || A[idx[c]][idx[c]] <= 0) {
+                ok = false;   /* singular: a figure absent (primary rays have no bounce work) or collinear */
+                break;
+            }
+            for (int j = 0; j <= m; j++) {
+                double t = S[c][j];
+                S[c][j] = S[piv][j], S[piv][j] = t;
+            }
+            for (int i = 0; i < m; i++)
+                if (i != c) {
+                    double f = S[i][c] / S[c][c];
+                    for (int j = c; j <= m; j++)
+                        S[i][j] -= f * S[c][j];
+                }
+        }
+        double b[FID_AUX_COUNT] = {0};
+        for (int i = 0; ok && i < m; i++)
+            if ((b[idx[i]] = S[i][m] / S[i][i]) < 0)
+                ok = false;
+        if (!ok)
+            continue;
+        double sse = 0;
+        for (uint32_t i = 0; i < M; i++) {
+            double w = x[i][FID_AUX_PRIMARY] + x[i][FID_AUX_BOUNCE], e = y[i] - dot(b, x[i]);
+            sse += (w > 0 ? 1.0 / w : 0) * e * e;
+        }
+        if (sse < best * (1.0 - 1e-12)) {
+            best = sse, used = m;
+            memcpy(beta, b, sizeof b);
+        }
     }
-    beta[0] = beta[1] = sx > 0 ? sy / sx : 0;
+    if (used == 0) {
+        for (int a = 0; a < FID_AUX_COUNT; a++)
+            beta[a] = a == FID_AUX_DRAM_LINES ? 0 : sx > 0 ? sy / sx : 0;
+        used = 1;
+    }
+    return used;
 }
 
 /* Pieces run so far (the plan is fixed by the first run; more windows can be added). */
@@ -257,14 +353,17 @@ struct fid_win_runs {
     win_plan pl;
     win_piece *win;               /* windows 0..count-1 */
     uint32_t count, cap;
-    win_piece lat;                /* the lattice */
+    win_lattice lat;
     bool has_lat;
 };
 
 void fid_windowed_free(fid_windowed *w)
 {
-    if (w->runs)
+    if (w->runs) {
         free(w->runs->win);
+        free(w->runs->lat.cum);
+        free(w->runs->lat.ncum);
+    }
     free(w->runs);
     w->runs = NULL;
 }
@@ -337,19 +436,23 @@ static int run_more(const fid_job *job, struct fid_win_runs *r, uint32_t upto, b
         r->win = nw, r->cap = upto;
     }
     win_plan pl = r->pl;
-    pl.first = r->count, pl.count = upto > r->count ? upto - r->count : 0, pl.lattice = lattice && !r->has_lat;
-    int n = (int)pl.count + (pl.lattice ? 1 : 0), rc = 0;
-    if (n > 0) {
-        win_piece *pc = calloc((size_t)n, sizeof *pc);
+    pl.first = r->count, pl.count = upto > r->count ? upto - r->count : 0;
+    int rc = 0;
+    /* the lattice runs here, in this process: the windows' auxiliary
+     * figures need its per-pixel DRAM lines */
+    if (lattice && !r->has_lat) {
+        rc = run_lattice(&pl, &r->lat, err, errlen);
+        r->has_lat = rc == 0;
+    }
+    if (rc == 0 && pl.count > 0) {
+        win_piece *pc = calloc(pl.count, sizeof *pc);
         if (!pc) {
             snprintf(err, errlen, "out of memory");
             return 2;
         }
-        rc = ks_pool_run(n, job->jobs, sizeof *pc, run_win_piece, &pl, pc, err, errlen);
+        rc = ks_pool_run((int)pl.count, job->jobs, sizeof *pc, run_win_piece, &pl, pc, err, errlen);
         if (rc == 0) {
             memcpy(r->win + r->count, pc, pl.count * sizeof *pc);
-            if (pl.lattice)
-                r->lat = pc[pl.count], r->has_lat = true;
             r->count += pl.count;
         }
         free(pc);
@@ -414,18 +517,28 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
     out->windows = M;
     out->model_pixels = 0;
     /* the lattice: the frame's auxiliary figures and rays */
-    const win_piece *lat = &r->lat;
-    double N = (double)pl.npix, n = lat->lat_n > 0 ? lat->lat_n : 1, fpc = fmax(0.0, 1.0 - n / N);
+    const win_lattice *lat = &r->lat;
+    double N = (double)pl.npix, n = lat->n > 0 ? lat->n : 1, fpc = fmax(0.0, 1.0 - n / N);
     double X[FID_AUX_COUNT];
     for (int a = 0; a < FID_AUX_COUNT; a++)
-        X[a] = N * lat->lat_x[a] / n;
-    double mr = lat->lat_r / n, vr = fmax(0.0, lat->lat_r2 / n - mr * mr) * n / fmax(n - 1, 1);
-    out->lattice_pixels = lat->lat_n;
+        X[a] = N * lat->x[a] / n;
+    double mr = lat->r / n, vr = fmax(0.0, lat->r2 / n - mr * mr) * n / fmax(n - 1, 1);
+    out->lattice_pixels = lat->n;
     out->rays_err = mr > 0 ? 1.96 * sqrt(vr * fpc / n) / mr : 1.0;
     out->primaries = N;
     out->rays = N * mr;
 
-    /* the windows */
+    /* the windows, and their auxiliary figures with the lattice's DRAM lines */
+    double(*xw)[FID_AUX_COUNT] = malloc((size_t)M * sizeof *xw), (*xs)[FID_AUX_COUNT] = malloc((size_t)M * sizeof *xs);
+    double *y = malloc((size_t)M * sizeof *y);
+    uint32_t *order = malloc((size_t)M * sizeof *order);
+    uint64_t *pos = malloc((size_t)M * sizeof *pos);
+    if (!xw || !xs || !y || !order || !pos) {
+        free(xw), free(xs), free(y), free(order), free(pos);
+        for (int k = 0; k < FID_WIN_FIGS; k++)
+            out->ci[k] = 1.0;   /* no interval: flagged by the bound */
+        return;
+    }
     double rays = 0, lat_sum = 0, prim = 0, fills = 0, cold = 0, s_static = 0, cycles_win = 0;
     for (uint32_t i = 0; i < M; i++) {
         const win_piece *w = &pc[i];
@@ -437,6 +550,13 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
         out->model_pixels += (double)w->b.primaries;
         fills += (double)(w->b.backed_fills - w->a.backed_fills);
         cold += (double)(w->b.backed_cold_fills - w->a.backed_cold_fills);
+        uint64_t first, st, end;
+        window_range(&pl, i, &first, &st, &end);
+        pos[i] = st, order[i] = i;
+        memcpy(xw[i], w->x_win, sizeof xw[i]);
+        memcpy(xs[i], w->x_warm, sizeof xs[i]);
+        xs[i][FID_AUX_DRAM_LINES] = lattice_lines(lat, first, first + w->a.primaries);
+        xw[i][FID_AUX_DRAM_LINES] = lattice_lines(lat, first + w->a.primaries, first + w->b.primaries);
     }
     out->measured_pixels = prim;
     out->mean_latency = rays > 0 ? lat_sum / rays : 0;
@@ -450,19 +570,6 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
      * stratification removes: 3-6x the spread of the estimate over shifted
      * window sets on interior diffuse). An odd window out is paired with its
      * neighbour once more. */
-    uint32_t *order = malloc((size_t)M * sizeof *order);
-    uint64_t *pos = malloc((size_t)M * sizeof *pos);
-    if (!order || !pos) {
-        free(order), free(pos);
-        for (int k = 0; k < FID_WIN_FIGS; k++)
-            out->ci[k] = 1.0;   /* no interval: flagged by the bound */
-        return;
-    }
-    for (uint32_t i = 0; i < M; i++) {
-        uint64_t first, st, end;
-        window_range(&pl, i, &first, &st, &end);
-        pos[i] = st, order[i] = i;
-    }
     for (uint32_t i = 1; i < M; i++)   /* insertion sort: M is small */
         for (uint32_t j = i; j > 0 && pos[order[j - 1]] > pos[order[j]]; j--) {
             uint32_t tmp = order[j];
@@ -476,27 +583,31 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
         /* y = beta . x per window: the primary rays' work and the bounces'
          * work cost differently (coherent primary rays hit in the caches;
          * DRAM bytes follow the bounces), so one ratio to the total work
-         * would carry the windows' mix of the two into the frame */
+         * would carry the windows' mix of the two into the frame; the
+         * lattice's DRAM lines follow where in the scene the misses are */
         double beta[FID_AUX_COUNT], cs = 0, cs2 = 0, cn = 0, fitted = 0, pvar = 0;
-        fit(pc, M, k, beta);
-        double steady = beta[0] * X[0] + beta[1] * X[1];
         for (uint32_t i = 0; i < M; i++)
-            fitted += beta[0] * pc[i].x_win[0] + beta[1] * pc[i].x_win[1];
+            y[i] = window_fig(&pc[i], k, false);
+        int used = fit((const double(*)[FID_AUX_COUNT])xw, y, M, beta);
+        double steady = dot(beta, X);
+        for (uint32_t i = 0; i < M; i++)
+            fitted += dot(beta, xw[i]);
         for (uint32_t q = 0; q < npairs && M > 1; q++) {
             uint32_t ia = order[2 * q < M - 1 ? 2 * q : M - 2], ib = order[2 * q < M - 1 ? 2 * q + 1 : M - 1];
-            double ea = window_fig(&pc[ia], k, false) - beta[0] * pc[ia].x_win[0] - beta[1] * pc[ia].x_win[1];
-            double eb = window_fig(&pc[ib], k, false) - beta[0] * pc[ib].x_win[0] - beta[1] * pc[ib].x_win[1];
+            double ea = y[ia] - dot(beta, xw[ia]), eb = y[ib] - dot(beta, xw[ib]);
             pvar += (ea - eb) * (ea - eb);
         }
-        /* the windows' residual sum scaled to the frame as the fit scales them */
+        /* the windows' residual sum scaled to the frame as the fit scales
+         * them; residuals of a fit are smaller than the errors by M - used
+         * of M degrees of freedom */
         double scale = fitted > 0 ? steady / fitted : 0;
-        pvar *= scale * scale;
+        pvar *= scale * scale * (M > (uint32_t)used ? (double)M / (M - used) : 1.0);
         /* the warm-up's excess over its steady share: the cost of a cold start */
         for (uint32_t i = 0; i < M; i++) {
             const win_piece *w = &pc[i];
             if (!w->a.primaries)
                 continue;
-            double c = window_fig(w, k, true) - beta[0] * w->x_warm[0] - beta[1] * w->x_warm[1];
+            double c = window_fig(w, k, true) - dot(beta, xs[i]);
             cs += c, cs2 += c * c, cn += 1;
         }
         double cbar = cn > 0 ? cs / cn : 0;
@@ -511,9 +622,9 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
         /* the lattice's standard error of beta . x per pixel */
         double m = 0, v = 0;
         for (int a = 0; a < FID_AUX_COUNT; a++) {
-            m += beta[a] * lat->lat_x[a] / n;
+            m += beta[a] * lat->x[a] / n;
             for (int b = 0; b < FID_AUX_COUNT; b++)
-                v += beta[a] * beta[b] * (lat->lat_xx[a][b] / n - (lat->lat_x[a] / n) * (lat->lat_x[b] / n));
+                v += beta[a] * beta[b] * (lat->xx[a][b] / n - (lat->x[a] / n) * (lat->x[b] / n));
         }
         v = fmax(0.0, v) * n / fmax(n - 1, 1);
         out->lattice_err[k] = m > 0 ? 1.96 * sqrt(v * fpc / n) / m * (steady / e) : 1.0;
@@ -525,6 +636,5 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
             out->energy_mj = e;
     }
     out->static_mj = cycles_win > 0 ? s_static / cycles_win * out->cycles : 0;
-    free(order);
-    free(pos);
+    free(xw), free(xs), free(y), free(order), free(pos);
 }

@@ -10,10 +10,15 @@
  * the window as the difference of two points of the run (accel_top.h
  * accel_top_run_until): cycles, rays, DRAM bytes and energy.
  *
- * Scaling to the frame: each figure fitted on the windows against the
- * traversal work (node visits + triangle tests, reference traversal, no
- * timing) of each pixel's primary ray and of its bounces, applied to the
- * frame's work estimated from a lattice of 1 pixel in win_lattice; plus the
+ * Scaling to the frame: each figure fitted on the windows against three
+ * auxiliary figures of their pixels, applied to the frame's, estimated from
+ * a lattice of 1 pixel in win_lattice run through the functional level
+ * (functional.h, no timing): the traversal work (node visits + triangle
+ * tests) of each pixel's primary ray and of its bounces, and the DRAM lines
+ * the lattice's caches fetched for it (a window's: its lattice pixels',
+ * scaled; where in the scene the misses are, which work alone does not
+ * say: hairball diffuse MRPS was 3.1-3.5% off without it, 0.5-1.4% with,
+ * docs/fidelity.md "windowed"); plus the
  * frame's start (the warm-up's excess over its fit, averaged over the
  * windows: every warm-up starts as cold as the frame does) and its drain
  * (the path latency). Each figure's 95% interval comes from the windows'
@@ -23,7 +28,8 @@
  * inside the windows (a warm cache would have had a line there).
  *
  * Contract: fid_windowed_run() fills *out; deterministic whatever job->jobs
- * (the windows and the lattice are independent pieces, kernel/fork_pool.h).
+ * (the windows are independent pieces, kernel/fork_pool.h; the lattice runs
+ * in the calling process first, the windows' figures need its pixels').
  * Returns 0, 1 on a simulation failure, 2 on bad input or no memory, or the
  * pool's 128 + signal; err set. */
 #ifndef RTSIM_FIDELITY_WINDOWED_H
@@ -36,8 +42,10 @@
 
 enum { FID_WIN_CYCLES, FID_WIN_DRAM, FID_WIN_ENERGY, FID_WIN_FIGS };
 /* the auxiliary figures of a pixel's path: node visits + triangle tests of
- * its primary ray, and of its bounce rays */
-enum { FID_AUX_PRIMARY, FID_AUX_BOUNCE, FID_AUX_COUNT };
+ * its primary ray, and of its bounce rays; the DRAM lines its misses bring
+ * in when the lattice's pixels run through the functional level's caches
+ * (a window's: from the lattice's pixels inside it) */
+enum { FID_AUX_PRIMARY, FID_AUX_BOUNCE, FID_AUX_DRAM_LINES, FID_AUX_COUNT };
 
 typedef struct fid_windowed {
     /* the plan and what ran */
@@ -45,7 +53,7 @@ typedef struct fid_windowed {
     uint32_t planned;             /* fid_windowed_probe: the plan's windows */
     double model_pixels;          /* pixels through the cycle model (warm-ups and windows) */
     double measured_pixels;       /* of them, inside the windows */
-    double lattice_pixels;        /* pixels traced for the frame's work */
+    double lattice_pixels;        /* pixels through the functional level for the frame's auxiliary figures */
     bool too_small;               /* the frame cannot hold the plan: windows shrank or overlap */
     /* the frame */
     double primaries, rays, cycles, dram_bytes, energy_mj, static_mj;

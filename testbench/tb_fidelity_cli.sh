@@ -154,6 +154,34 @@ then pass fidelity_functional_tie_flagged; else fail fidelity_functional_tie_fla
 "$bin" hairball --res 96x54 --fidelity functional --json "$tmp/clear.json" >/dev/null 2>&1
 if [ "$(field "$tmp/clear.json" unreliable)" = 0 ]; then pass fidelity_functional_clear_bound_not_flagged
 else fail fidelity_functional_clear_bound_not_flagged "$(field "$tmp/clear.json" unreliable_reason)"; fi
+# functional where its cache order and throughput model do not hold: on
+# hairball BVH2 diffuse its MRPS is 39% off the cycle model's on the energy
+# pilot's pixels (the functional order hits the node L1 far more often);
+# the method line shows both and the gap is in the estimate
+out=$("$bin" hairball --res 320x180 --rays diffuse --machine bvh2 --fidelity functional --json "$tmp/fpilot.json" 2>&1)
+if python3 - "$tmp/fpilot.json" "$out" <<'PY'
+import json, re, sys
+d = json.load(open(sys.argv[1]))
+m = re.search(r"energy from a cycle-model pilot on 1280 pixels \(MRPS there: functional ([0-9.]+), model ([0-9.]+)\)", sys.argv[2])
+assert m, sys.argv[2]
+gap = 100 * abs(float(m.group(1)) / float(m.group(2)) - 1)
+assert gap > 30 and d["error_estimate.mrps"] >= gap + 15 - 0.5, (gap, d["error_estimate.mrps"])
+PY
+then pass fidelity_functional_pilot_gap_in_estimate; else fail fidelity_functional_pilot_gap_in_estimate "$(echo "$out" | grep -E '^(fidelity|method)' | tr '\n' ' ')"; fi
+# sampled energy from cold samples: interior primary MBVH4's 4 groups spend
+# 67-97% more IST, cache and FIFO energy per work than the frame (their
+# caches start empty); scaling all of it by the work put mJ/frame 14% high
+# against a 9% estimate. Now within its estimate, flagged or not.
+"$bin" interior --res 320x180 --machine mbvh4 --json "$tmp/ipfull.json" >/dev/null 2>&1
+"$bin" interior --res 320x180 --machine mbvh4 --fidelity sampled --json "$tmp/ipsamp.json" >/dev/null 2>&1
+if python3 - "$tmp/ipfull.json" "$tmp/ipsamp.json" <<'PY'
+import json, sys
+f, s = (json.load(open(p)) for p in sys.argv[1:3])
+err = 100 * abs(s["energy_mj"] / f["energy_mj"] - 1)
+assert err <= s["error_estimate.energy_mj"], (err, s["error_estimate.energy_mj"])
+assert err < 5, err
+PY
+then pass fidelity_sampled_energy_cold_sample_within_estimate; else fail fidelity_sampled_energy_cold_sample_within_estimate "outside"; fi
 
 # sampled at a rate too low for the bound
 out=$("$bin" interior --res 64x36 --fidelity sampled --sample-rate 0.01 --json "$tmp/low.json" 2>&1)
@@ -246,7 +274,7 @@ if echo "$out" | grep -q "^accuracy    --accuracy 2%: fell back to full (windowe
    ! echo "$out" | grep -q "^workers"; then
   pass fidelity_accuracy_skips_levels_under_their_floor
 else fail fidelity_accuracy_skips_levels_under_their_floor "$(echo "$out" | grep -E '^(accuracy|workers)' | tr '\n' ' ')"; fi
-out=$("$bin" hairball --res 96x54 --accuracy 40% --json "$tmp/acc2.json" 2>&1)
+out=$("$bin" forest --res 96x54 --rays diffuse --accuracy 40% --json "$tmp/acc2.json" 2>&1)
 if echo "$out" | grep -q "^accuracy    --accuracy 40%: picked functional" && [ "$(field "$tmp/acc2.json" fidelity)" = functional ]; then
   pass fidelity_accuracy_picks_cheap_level
 else fail fidelity_accuracy_picks_cheap_level "$(echo "$out" | grep -E '^(fidelity|accuracy)' | tr '\n' ' ')"; fi

@@ -161,7 +161,7 @@ static uint32_t *band_subset(const fid_job *job, uint32_t period, uint32_t group
 typedef struct model_fig {
     double cycles, rays, mrps, dram_bytes, energy_mj, static_mj, dram_mj, dram_static_mj;
     double mem_latency, dram_gbs, row_hit, mem_requests;
-    double unit_dyn_mj[5];        /* dynamic energy of trv, ist, stack, cache, fifo (fig_units) */
+    double unit_dyn_mj[5];        /* dynamic energy of trv, ist, stack, cache, fifo (get_fig's units) */
 } model_fig;
 
 static double stat(ks_stats *st, const char *name) { return ks_stats_value_or(st, name, 0.0); }
@@ -546,9 +546,11 @@ static int run_piece(void *user, int index, void *result, char *err, size_t errl
  * than the frame: with both parts >= 0, the frame's lies between the
  * sample's scaled by the work and scaled by the fills. The midpoint is
  * taken; *range_mj: half the gap, a bound on that error. (Scaling all
- * dynamic energy by the work left sampled's mJ/frame 7% low to 14% high on
- * primary rays at 320x180: interior MBVH4's sample spent 67-97% more IST,
- * cache and FIFO energy per work than its frame.) */
+ * dynamic energy by the work put sampled's mJ/frame 14% high on interior
+ * primary MBVH4 320x180, against a 9% estimate: its sample spent 67-97%
+ * more IST, cache and FIFO energy per work than its frame. Before that,
+ * DRAM's static energy was also in the DRAM term and taken off the
+ * dynamic one, which hid part of it: 7% low on Fairy primary MBVH4.) */
 static double energy_ratio(const model_fig *m, const fid_func *fs, const fid_func *ff, double frame_seconds,
                            double *range_mj)
 {

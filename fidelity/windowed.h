@@ -17,7 +17,7 @@
  * tests) of each pixel's primary ray and of its bounces, and the DRAM lines
  * the lattice's caches fetched for it (a window's: its lattice pixels',
  * scaled; where in the scene the misses are, which work alone does not
- * say: hairball diffuse MRPS was 3.1-3.5% off without it, 0.5-1.4% with,
+ * say: hairball diffuse MRPS was 3.1-3.5% off without it, 1.2-1.4% with,
  * docs/fidelity.md "windowed"); plus the
  * frame's start (the warm-up's excess over its fit, averaged over the
  * windows: every warm-up starts as cold as the frame does) and its drain

@@ -50,9 +50,9 @@ static const fid_params defaults = {
     .win_warm_pixels = 4096,
     .win_min_pixels = 256,
     .win_tail_pixels = 512,
-    /* 1280x720 diffuse, 10 configurations: 1 in 4 cost 13-15% of the CPU
-     * time of windowed (speedup 4.6-7.0x), 1 in 8 6.0-6.8x with true
-     * errors within 1.4% either way (docs/fidelity.md "windowed") */
+    /* 1280x720 diffuse, 10 configurations: windowed 4.6-5.9x faster than
+     * full with 1 in 4, 5.4-6.8x with 1 in 8, true errors within 1.4%
+     * either way (docs/fidelity.md "windowed") */
     .win_lattice = 8,
     .win_err_floor = 0.005,
     .win_max_cold = 0.02,

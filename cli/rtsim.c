@@ -263,6 +263,14 @@ static double wall(void) { return cli_run_clock(CLOCK_MONOTONIC); }
  * host and however many cores ran it. */
 static double cpu(void) { return cli_run_clock(CLOCK_PROCESS_CPUTIME_ID) + ks_pool_children_cpu_s(); }
 
+/* The progress bar: 30 cells, the first `bars` of them filled. */
+static void draw_bar(int bars, char bar[31])
+{
+    for (int i = 0; i < 30; i++)
+        bar[i] = i < bars ? '#' : '.';
+    bar[30] = 0;
+}
+
 static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admitted)
 {
     progress_state *p = user;
@@ -286,11 +294,8 @@ static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admi
     double frac = p->total ? (double)(admitted < p->total ? admitted : p->total) / (double)p->total : 1.0;
     double el = wall() - p->t0;
     double eta = frac > 0.01 ? el * (1.0 - frac) / frac : 0.0;
-    int bars = (int)(frac * 30.0);
     char bar[31];
-    for (int i = 0; i < 30; i++)
-        bar[i] = i < bars ? '#' : '.';
-    bar[30] = 0;
+    draw_bar((int)(frac * 30.0), bar);
     /* The fraction is rays admitted over the primary-ray count: the number
      * of bounce rays is only known once every path has ended, so past 100%
      * the remaining time is unknown and no ETA is claimed. */
@@ -320,11 +325,8 @@ static void pieces_cb(void *user, int done, int total)
     }
     if (!p->on)
         return;
-    int bars = total > 0 ? done * 30 / total : 30;
     char bar[31];
-    for (int i = 0; i < 30; i++)
-        bar[i] = i < bars ? '#' : '.';
-    bar[30] = 0;
+    draw_bar(total > 0 ? done * 30 / total : 30, bar);
     fprintf(stderr, "\r[%s] %d/%d pieces  %.0fs   ", bar, done, total, now - p->t0);
     fflush(stderr);
 }

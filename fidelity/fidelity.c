@@ -278,7 +278,8 @@ static int own_stats(fid_outcome *o)
         rc |= ks_stat_counter_ref(st, "window.model_pixels", "pixels",
                                   "pixels through the full model (warm-ups and windows)", &w->model_pixels);
         rc |= ks_stat_counter_ref(st, "window.lattice_pixels", "pixels",
-                                  "pixels traced (reference traversal) for the frame's work", &w->lattice_pixels);
+                                  "pixels through the functional level for the frame's auxiliary figures",
+                                  &w->lattice_pixels);
         rc |= ks_stat_real_ref(st, "window.cold_fill_share", "ratio",
                                "fills into never-used ways of node L2 and primitive cache / their fills, in the windows",
                                &w->cold_share);
@@ -940,8 +941,9 @@ static int run_full(const fid_job *job, fid_outcome *o, char *err, size_t errlen
     return rc;
 }
 
-/* An empty trial outcome for --accuracy (its storage freed first). 0, or -1
- * with a message when out of memory. */
+/* An empty outcome with its own figures' storage (any storage it had freed
+ * first): for one level's run, and for each of --accuracy's trials. 0, or
+ * -1 with a message when out of memory. */
 static int fresh_trial(fid_outcome *t, double acc, char *err, size_t errlen)
 {
     free(t->own);
@@ -1044,11 +1046,8 @@ int fid_run(const fid_job *job, fid_level level, double accuracy, fid_outcome *o
         rc = run_auto(job, accuracy, o, err, errlen);
         o->res.accuracy = accuracy;
     } else {
-        o->own = calloc(1, sizeof *o->own);
-        if (!o->own) {
-            snprintf(err, errlen, "out of memory");
+        if (fresh_trial(o, 0, err, errlen))
             return 2;
-        }
         fid_func ff;
         memset(&ff, 0, sizeof ff);
         switch (level) {

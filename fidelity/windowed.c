@@ -48,21 +48,19 @@ static int path_tracer_init(path_tracer *pt, const fid_job *job, char *err, size
     return 0;
 }
 
-/* The auxiliary figures of pixel p's path (windowed.h: its primary ray's
- * work and its bounces' work, node visits + triangle tests, the rays the
- * model traces for the pixel); *rays: how many rays. */
-static void path_aux(const path_tracer *pt, uint32_t p, double x[FID_AUX_COUNT], double *rays)
+/* The traversal work of pixel p's path (node visits + triangle tests, the
+ * rays the model traces for the pixel): work[0] its primary ray's, work[1]
+ * its bounces' (FID_AUX_PRIMARY, FID_AUX_BOUNCE). */
+static void path_work(const path_tracer *pt, uint32_t p, double work[2])
 {
     const fid_job *job = pt->job;
     rt_ray ray = rt_camera_primary_ray(&pt->cam, p % job->width, p / job->width), next;
     rt_hit hit;
-    x[FID_AUX_PRIMARY] = x[FID_AUX_BOUNCE] = x[FID_AUX_DRAM_LINES] = 0;
-    *rays = 0;
-    for (;;) {
+    work[FID_AUX_PRIMARY] = work[FID_AUX_BOUNCE] = 0;
+    for (bool bounce = false;; bounce = true) {
         rt_trv_counts c = {0};
         rt_trace_ray(job->img, &pt->tp, &ray, &hit, &c, NULL, NULL);
-        x[*rays > 0 ? FID_AUX_BOUNCE : FID_AUX_PRIMARY] += (double)c.visits + (double)c.tri_tests;
-        *rays += 1;
+        work[bounce ? FID_AUX_BOUNCE : FID_AUX_PRIMARY] += (double)c.visits + (double)c.tri_tests;
         if (!job->diffuse || !rt_bounce_ray(job->mesh, &ray, &hit, job->seed, job->bounces, &next))
             break;
         ray = next;
@@ -224,14 +222,10 @@ static int run_window(const win_plan *pl, uint32_t i, win_piece *r, char *err, s
         path_tracer pt;
         rc = path_tracer_init(&pt, job, err, errlen);
         for (uint64_t k = 0; rc == 0 && k < r->b.primaries && k < n; k++) {
-            double rays, x[FID_AUX_COUNT];
-            path_aux(&pt, map[k], x, &rays);
-            for (int a = 0; a < FID_AUX_DRAM_LINES; a++) {
-                if (k < r->a.primaries)
-                    r->x_warm[a] += x[a];
-                else
-                    r->x_win[a] += x[a];
-            }
+            double work[2];
+            path_work(&pt, map[k], work);
+            double *x = k < r->a.primaries ? r->x_warm : r->x_win;
+            x[FID_AUX_PRIMARY] += work[FID_AUX_PRIMARY], x[FID_AUX_BOUNCE] += work[FID_AUX_BOUNCE];
         }
     }
     fid_subset_close(&sub);

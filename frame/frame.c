@@ -60,7 +60,7 @@ void rtsim_frame_complete(void *user, uint32_t uid, const accel_ray_in *in, cons
     }
 }
 
-/* The model's view of a tracer memory image. */
+/* The reference traversal's parameters as the machine runs it (frame.h). */
 void rtsim_trv_params(const accel_params *ap, int width, rt_trv_params *out)
 {
     rt_trv_params_default(out, width);
@@ -68,6 +68,7 @@ void rtsim_trv_params(const accel_params *ap, int width, rt_trv_params *out)
     out->distance_cull = ap->trv.core.distance_cull;   /* accel_config: auto = N > 2 */
 }
 
+/* The model's view of a tracer memory image. */
 accel_image rtsim_image(const rt_bvh_image *img)
 {
     accel_image a = {img->bytes, img->size, img->node_base, img->tri_base, img->width, img->node_bytes, img->nnodes,

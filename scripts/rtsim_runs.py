@@ -32,10 +32,9 @@ def point_name(scene, rays, machine, res, sets=(), extra=()):
     """File name of a point: readable, plus a hash of the overrides and of
     any further rtsim arguments."""
     name = "%s_%s_%s_%s" % (scene_key(scene), rays, machine, res)
-    if sets:
-        name += "_" + hashlib.sha1("\n".join(sets).encode()).hexdigest()[:12]
-    if extra:
-        name += "_" + hashlib.sha1("\n".join(extra).encode()).hexdigest()[:12]
+    for args in (sets, extra):
+        if args:
+            name += "_" + hashlib.sha1("\n".join(args).encode()).hexdigest()[:12]
     return name + ".json"
 
 

@@ -20,6 +20,9 @@ static const fid_params defaults = {
     .mem_side_fifo_cycles = 4.0,   /* L1 -> arbiter -> L2 and back: fifo.mem_latency hops */
     .max_util = 0.95,
     .miss_waiters = 1.0,
+    /* 1/32 of a 1280x720 frame is 22 rows: far longer than the 128 rays in
+     * flight and the FIFOs can smooth, the scale of a scene's regions */
+    .func_phases = 32,
     .func_err_base = 0.15,         /* worst |functional - full| MRPS over the matrix with one clear bound */
     .func_err_tie = 0.15,
     .func_tie_flag = 0.85,

@@ -15,6 +15,7 @@ typedef struct fid_params {
     double mem_side_fifo_cycles;  /* L1 miss -> L2 -> fill FIFO hops */
     double max_util;              /* cap of the DRAM utilisation in the queueing term */
     double miss_waiters;          /* rays waiting per missing line (Little's law term) */
+    int func_phases;              /* phases of the primaries for fid_func.phase_excess */
     double func_err_base;         /* functional: relative MRPS error when one bound dominates */
     double func_err_tie;          /* functional: added error as the runner-up bound reaches a tie */
     double func_err_mem;          /* functional: added error per unit of DRAM utilisation x row-miss rate */

@@ -160,6 +160,20 @@ static int make_cache(const rtcfg *cfg, const char *section, cache_core **out, c
 
 static double max2(double a, double b) { return a > b ? a : b; }
 
+/* The busiest issue unit's work since start[] (updated to now): a TRV's
+ * visits + leaves, the IST's tests (start[ntrv]). */
+static double end_phase(const fid_func *o, double start[FID_MAX_TRV + 1])
+{
+    double busiest = (double)o->tri_tests - start[o->ntrv];
+    start[o->ntrv] = (double)o->tri_tests;
+    for (uint32_t i = 0; i < o->ntrv; i++) {
+        double w = (double)(o->trv_visits[i] + o->trv_leaves[i]);
+        busiest = max2(busiest, w - start[i]);
+        start[i] = w;
+    }
+    return busiest;
+}
+
 /* The throughput model (functional.h). */
 static void throughput(const fid_job *job, fid_func *o)
 {
@@ -310,7 +324,15 @@ int fid_functional_run_attributed(const fid_job *job, const uint32_t *pixels, ui
     }
     uint64_t total = pixels ? npix : (uint64_t)job->width * job->height, next_primary = 0;
     uint32_t busy = 0;
+    /* phases: each unit's issue work when the last one ended (ntrv: the IST) */
+    const uint32_t phases = (uint32_t)fid_params_get()->func_phases;
+    double phase_start[FID_MAX_TRV + 1] = {0}, phase_sum = 0;
+    uint32_t phase = 0;
     for (;;) {
+        while (phase + 1 < phases && next_primary > 0 && next_primary >= (phase + 1) * total / phases) {
+            phase_sum += end_phase(out, phase_start);
+            phase++;
+        }
         /* refill: a finished slot takes its bounce or the next primary */
         for (uint32_t k = 0; k < nslots; k++) {
             fn_slot *s = &slots[k];
@@ -364,6 +386,11 @@ int fid_functional_run_attributed(const fid_job *job, const uint32_t *pixels, ui
     }
     cache_core_get_stats(st.l2, &out->l2);
     cache_core_get_stats(st.prim, &out->prim);
+    phase_sum += end_phase(out, phase_start);
+    double busiest = (double)out->tri_tests;
+    for (uint32_t i = 0; i < ntrv; i++)
+        busiest = max2(busiest, (double)(out->trv_visits[i] + out->trv_leaves[i]));
+    out->phase_excess = busiest > 0 ? phase_sum / busiest - 1.0 : 0;
     throughput(job, out);
     rc = 0;
 done:

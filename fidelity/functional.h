@@ -45,6 +45,13 @@ typedef struct fid_func {
     double runner_up;             /* second largest bound / largest (1 = tie) */
     double mrps, clock_mhz;
     double miss_scale;            /* multiplies every miss's wait (1 = the model as fitted) */
+    /* the busiest issue unit's work (a TRV's visits + leaves, the IST's
+     * tests) summed phase by phase (func_phases runs of the primaries, in
+     * admission order), over the busiest unit's work over the run, - 1:
+     * how much slower than the issue bound the run is when each phase is
+     * bound by its own busiest unit (the load moves between the TRVs and
+     * the IST across a frame); loops on misses left out */
+    double phase_excess;
 } fid_func;
 
 /* pixels: the primary rays' pixel indices in admission order (NULL: every

@@ -80,6 +80,10 @@ typedef struct win_plan {
 typedef struct win_piece {
     accel_point a, b;             /* after the warm-up; after the window */
     double e_warm, e_win, s_win;  /* energy (mJ) of the warm-up and the window, the window's static part */
+    /* per unit over the warm-up and the window: dynamic energy (mJ), DRAM's
+     * static at EU_COUNT; the units' leakage (mW) and area (mm2) */
+    double u_warm[EU_COUNT + 1], u_win[EU_COUNT + 1], leak_mw[EU_COUNT], area_mm2[EU_COUNT];
+    bool has_units;
     double x_warm[FID_AUX_COUNT], x_win[FID_AUX_COUNT]; /* auxiliary figures of their pixels (the
                                    * lattice's DRAM lines filled in by the estimate) */
 } win_piece;
@@ -180,6 +184,14 @@ static int run_lattice(const win_plan *pl, win_lattice *lat, char *err, size_t e
     return rc;
 }
 
+/* Each unit's dynamic energy of an interval, DRAM's static at EU_COUNT. */
+static void unit_energy(const energy_result *er, double u_mj[EU_COUNT + 1])
+{
+    for (int u = 0; u < EU_COUNT; u++)
+        u_mj[u] = er->dynamic_mj[u];
+    u_mj[EU_COUNT] = er->static_mj[EU_DRAM];
+}
+
 /* The lattice's DRAM lines over pixels [lo, hi), scaled to all of them. */
 static double lattice_lines(const win_lattice *lat, uint64_t lo, uint64_t hi)
 {
@@ -216,9 +228,21 @@ static int run_window(const win_plan *pl, uint32_t i, win_piece *r, char *err, s
     if (rc == 0 && accel_top_run_until(sub.top, warm + pl->len, &r->b, err, errlen))
         rc = 1;
     if (rc == 0) {
-        double st;
-        r->e_warm = accel_top_interval_energy_mj(sub.top, &zero, &r->a, &st);
-        r->e_win = accel_top_interval_energy_mj(sub.top, &r->a, &r->b, &r->s_win);
+        const energy_result *er = accel_top_interval_energy(sub.top, &zero, &r->a);
+        r->has_units = er != NULL;
+        if (er) {
+            r->e_warm = er->total_energy_mj;
+            unit_energy(er, r->u_warm);
+            er = accel_top_interval_energy(sub.top, &r->a, &r->b);
+            r->e_win = er->total_energy_mj;
+            unit_energy(er, r->u_win);
+            double sec = (double)(r->b.cycle - r->a.cycle) / (rtcfg_real(job->cfg, "machine.clock_mhz") * 1e6);
+            for (int u = 0; u < EU_COUNT; u++) {
+                r->s_win += er->static_mj[u];
+                r->leak_mw[u] = u == EU_DRAM || sec <= 0 ? 0 : er->static_mj[u] / sec;
+                r->area_mm2[u] = er->area_mm2[u];
+            }
+        }
         path_tracer pt;
         rc = path_tracer_init(&pt, job, err, errlen);
         for (uint64_t k = 0; rc == 0 && k < r->b.primaries && k < n; k++) {
@@ -253,6 +277,8 @@ static double window_fig(const win_piece *w, int k, bool warm)
 {
     if (k == FID_WIN_ENERGY)
         return warm ? w->e_warm : w->e_win;
+    if (k >= FID_WIN_UNIT0)
+        return warm ? w->u_warm[k - FID_WIN_UNIT0] : w->u_win[k - FID_WIN_UNIT0];
     return warm ? point_fig(&w->a, k) : point_fig(&w->b, k) - point_fig(&w->a, k);
 }
 
@@ -533,10 +559,11 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
             out->ci[k] = 1.0;   /* no interval: flagged by the bound */
         return;
     }
-    double rays = 0, lat_sum = 0, prim = 0, fills = 0, cold = 0, s_static = 0, cycles_win = 0;
+    double rays = 0, lat_sum = 0, prim = 0, fills = 0, cold = 0, s_static = 0, s_dram = 0, cycles_win = 0;
     for (uint32_t i = 0; i < M; i++) {
         const win_piece *w = &pc[i];
         s_static += w->s_win;
+        s_dram += w->u_win[EU_COUNT];
         cycles_win += (double)(w->b.cycle - w->a.cycle);
         rays += (double)(w->b.completed - w->a.completed);
         lat_sum += (double)(w->b.latency_sum - w->a.latency_sum);
@@ -611,6 +638,8 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
             e += drain;
         else if (k == FID_WIN_ENERGY && cycles_win > 0)
             e += s_static / cycles_win * drain;   /* the drain's static energy */
+        else if (k == FID_WIN_DRAM_STATIC && cycles_win > 0)
+            e += s_dram / cycles_win * drain;
         out->ci[k] = e > 0 && M > 1 ? t * sqrt((1.0 - f) * pvar) / e : 1.0;
         out->start_err[k] = e > 0 && cn > 0 ? fid_t95((int)cn - 1) * csd / sqrt(cn) / e : 0;
         /* the lattice's standard error of beta . x per pixel */
@@ -626,9 +655,14 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
             out->cycles = e;
         else if (k == FID_WIN_DRAM)
             out->dram_bytes = e;
-        else
+        else if (k == FID_WIN_ENERGY)
             out->energy_mj = e;
+        else
+            out->unit_mj[k - FID_WIN_UNIT0] = e;
     }
+    out->has_units = M > 0 && pc[0].has_units;
+    for (int u = 0; u < EU_COUNT && out->has_units; u++)
+        out->leak_mw[u] = pc[0].leak_mw[u], out->area_mm2[u] = pc[0].area_mm2[u];
     out->static_mj = cycles_win > 0 ? s_static / cycles_win * out->cycles : 0;
     free(xw), free(xs), free(y), free(order), free(pos);
 }

@@ -39,8 +39,20 @@
 #include <stdint.h>
 
 #include "fidelity/fidelity.h"
+#include "model/energy/energy.h"
 
-enum { FID_WIN_CYCLES, FID_WIN_DRAM, FID_WIN_ENERGY, FID_WIN_FIGS };
+/* The figures estimated: the three figures of merit (FID_WIN_HEADLINE of
+ * them), then each unit's dynamic energy (model/energy/energy.h order) and
+ * DRAM's static (background) energy, for Table 1's power per unit. */
+enum {
+    FID_WIN_CYCLES,
+    FID_WIN_DRAM,
+    FID_WIN_ENERGY,
+    FID_WIN_HEADLINE,
+    FID_WIN_UNIT0 = FID_WIN_HEADLINE,
+    FID_WIN_DRAM_STATIC = FID_WIN_UNIT0 + EU_COUNT,
+    FID_WIN_FIGS
+};
 /* the auxiliary figures of a pixel's path: node visits + triangle tests of
  * its primary ray, and of its bounce rays; the DRAM lines its misses bring
  * in when the lattice's pixels run through the functional level's caches
@@ -57,6 +69,10 @@ typedef struct fid_windowed {
     bool too_small;               /* the frame cannot hold the plan: windows shrank or overlap */
     /* the frame */
     double primaries, rays, cycles, dram_bytes, energy_mj, static_mj;
+    /* per unit: the frame's dynamic energy (mJ; DRAM's static at EU_COUNT),
+     * leakage (mW; DRAM's 0: its static energy is estimated) and area (mm2) */
+    double unit_mj[EU_COUNT + 1], leak_mw[EU_COUNT], area_mm2[EU_COUNT];
+    bool has_units;               /* an energy model: the three arrays hold */
     double mean_latency;          /* cycles per ray in the windows */
     /* relative errors (fractions), each a 95% half-width or a bound */
     double ci[FID_WIN_FIGS];      /* the windows' spread about the ratio */

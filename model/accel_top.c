@@ -762,17 +762,14 @@ int accel_top_run_until(accel_top *t, uint64_t primaries, accel_point *p, char *
     return 0;
 }
 
-double accel_top_interval_energy_mj(accel_top *t, const accel_point *a, const accel_point *b, double *static_mj)
+const energy_result *accel_top_interval_energy(accel_top *t, const accel_point *a, const accel_point *b)
 {
-    *static_mj = 0;
     if (!t->energy)
-        return 0;
+        return NULL;
     energy_activity d;
     energy_activity_between(&a->act, &b->act, &d);
     energy_compute(t->energy, &d, 0);
-    for (int u = 0; u < EU_COUNT; u++)
-        *static_mj += t->energy->r.static_mj[u];
-    return t->energy->r.total_energy_mj;
+    return &t->energy->r;
 }
 
 uint64_t accel_top_cycles(const accel_top *t) { return t->cycles; }

@@ -84,10 +84,11 @@ typedef struct accel_point {
  * call; accel_top_run() is not called after it. 0, or 1 on a simulation
  * failure (as accel_top_run). */
 int accel_top_run_until(accel_top *t, uint64_t primaries, accel_point *p, char *err, size_t errlen);
-/* Energy of the interval between two points of one run, in mJ (0 without an
- * energy model); *static_mj: its static part. Overwrites the run's energy
- * figures, so only for runs that are not reported themselves. */
-double accel_top_interval_energy_mj(accel_top *t, const accel_point *a, const accel_point *b, double *static_mj);
+/* Energy of the interval between two points of one run, unit by unit (the
+ * run's energy model's result: mJ, mW over the interval, mm2), or NULL
+ * without an energy model. Overwrites the run's energy figures, so only for
+ * runs that are not reported themselves; valid until the next call. */
+const energy_result *accel_top_interval_energy(accel_top *t, const accel_point *a, const accel_point *b);
 const accel_params *accel_top_params(const accel_top *t);
 uint64_t accel_top_guard_cycle(const accel_top *t); /* where the livelock guard engaged, 0: never */
 /* Writes the human-readable summary: cycles, MRPS, per-unit utilization,

@@ -7,7 +7,10 @@
  *   - asking for it changes nothing of the run (the same counts and cycles
  *     as fid_functional_run on the same pixels);
  *   - every pixel gets its primary ray's work, and primary rays get no
- *     bounce work. */
+ *     bounce work;
+ * and the phase excess (fid_func.phase_excess), which the sampled level's
+ * estimate adds: rays that load the TRVs, then rays that load the IST show
+ * it; the same rays alternating do not. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -91,6 +94,67 @@ static void check_attribution(const rt_scene *sc, const char *preset, bool diffu
     tb_end();
 }
 
+/* Of pixels 0, 37, 74, ...: the one whose primary ray loads the TRVs most
+ * against the IST (*trv_px) and the one that loads the IST most (*ist_px),
+ * each traced alone. */
+static bool extreme_pixels(const fid_job *job, uint32_t n, uint32_t *trv_px, uint32_t *ist_px, char *err, size_t errlen)
+{
+    double hi = -1, lo = 1e300;
+    for (uint32_t p = 0; p < n; p += 37) {
+        fid_func f;
+        if (fid_functional_run(job, &p, 1, &f, err, errlen))
+            return false;
+        double r = (double)(f.visits + f.leaves) / (double)(f.tri_tests + 1);
+        if (r > hi)
+            hi = r, *trv_px = p;
+        if (r < lo)
+            lo = r, *ist_px = p;
+    }
+    return hi > 2 * lo;
+}
+
+/* The phase excess (functional.h): the same rays, a pixel that loads the
+ * TRVs and one that loads the IST, either in two runs of half the list
+ * each (the load moves from the TRVs to the IST half way) or alternating
+ * (every phase carries both). */
+static void check_phases(const rt_scene *sc)
+{
+    char err[1024];
+    tb_begin("functional_phase_excess_interior_mbvh4_primary");
+    rtcfg *cfg = machine_cfg("mbvh4", err, sizeof err);
+    if (!TB_CHECK(cfg != NULL, "config: %s", err)) {
+        tb_end();
+        return;
+    }
+    rt_bvh_params bp;
+    rt_bvh_params_default(&bp);
+    bp.width = (int)rtcfg_int(cfg, "machine.branching");
+    rt_bvh_image img;
+    memset(&img, 0, sizeof img);
+    enum { W = 64, H = 36, N = 16384 };   /* 512 rays a phase: the TRVs' shares even out */
+    uint32_t a = 0, b = 0;
+    static uint32_t halves[N], alternate[N];
+    if (TB_CHECK(rt_bvh_build(&sc->mesh, &bp, &img, NULL, err, sizeof err), "bvh: %s", err)) {
+        fid_job job = {cfg, &sc->mesh, &sc->views.v[0], &img, W, H, false, 0, 1, 0, NULL, NULL, 1, 0};
+        fid_func f_halves, f_alt;
+        if (TB_CHECK(extreme_pixels(&job, W * H, &a, &b, err, sizeof err), "no pixels of different loads: %s", err)) {
+            for (uint32_t i = 0; i < N; i++)
+                halves[i] = i < N / 2 ? a : b, alternate[i] = i % 2 ? b : a;
+            if (TB_CHECK(fid_functional_run(&job, halves, N, &f_halves, err, sizeof err) == 0, "run: %s", err) &&
+                TB_CHECK(fid_functional_run(&job, alternate, N, &f_alt, err, sizeof err) == 0, "run: %s", err)) {
+                TB_EQ_INT(f_halves.visits, f_alt.visits);   /* the same rays */
+                TB_EQ_INT(f_halves.tri_tests, f_alt.tri_tests);
+                TB_CHECK(f_halves.phase_excess > 0.2, "in halves: excess %.4f", f_halves.phase_excess);
+                TB_CHECK(f_alt.phase_excess >= 0 && f_alt.phase_excess < 0.05, "alternating: excess %.4f",
+                         f_alt.phase_excess);
+            }
+        }
+    }
+    rt_bvh_image_free(&img);
+    rtcfg_destroy(cfg);
+    tb_end();
+}
+
 int main(void)
 {
     static const char *const scenes[] = {"interior", "hairball"};
@@ -105,6 +169,8 @@ int main(void)
         }
         check_attribution(&sc, "mbvh4", true);
         check_attribution(&sc, "bvh2", false);
+        if (s == 0)
+            check_phases(&sc);
         rt_scene_free(&sc);
     }
     return tb_finish();

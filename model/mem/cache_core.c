@@ -48,10 +48,16 @@ struct cache_core {
     uint64_t *stamp;      /* 0 = invalid */
     uint64_t clock;       /* LRU stamp counter */
     mshr *m;
-    uint64_t *mline;      /* line of each MSHR, NO_LINE when free (the search key, contiguous) */
+    uint64_t *mline;      /* line of each MSHR, NO_LINE when free (the search key) */
     int mshr_busy;
-    int *busy_list;       /* the busy MSHRs' indices, [0, mshr_busy) in any order (search only these) */
-    int *busy_pos;        /* position of each busy MSHR in busy_list */
+    /* The busy MSHRs chained per set (a line's MSHR is on the chain of the
+     * line's set): a probe that misses in the tags looks only at the few
+     * MSHRs of its own set instead of every busy one. Most probes of a
+     * memory-bound run are rays retrying a line still in flight (looping
+     * for next chance), which walked all busy MSHRs (32 at the L2 and the
+     * primitive cache) to find it. */
+    int *set_mshr;        /* per set: first busy MSHR of the set's chain, -1 none */
+    int *mnext;           /* per MSHR: next on its set's chain, -1 last */
     int *missq;           /* ring of MSHR indices not yet sent downstream */
     int missq_head, missq_n;
     waiter *w;
@@ -153,15 +159,15 @@ cache_core *cache_core_create(const cache_params *p, char *err, size_t errlen)
     c->stamp = calloc(nways, sizeof *c->stamp);
     c->m = calloc(p->mshrs, sizeof *c->m);
     c->mline = malloc(p->mshrs * sizeof *c->mline);
-    c->busy_list = malloc(p->mshrs * sizeof *c->busy_list);
-    c->busy_pos = malloc(p->mshrs * sizeof *c->busy_pos);
+    c->set_mshr = malloc(c->nsets * sizeof *c->set_mshr);
+    c->mnext = malloc(p->mshrs * sizeof *c->mnext);
     c->missq = calloc(p->mshrs, sizeof *c->missq);
     c->w = calloc((size_t)c->nwaiters, sizeof *c->w);
     c->readyq = calloc((size_t)c->nwaiters, sizeof *c->readyq);
     c->bank_busy_until = calloc(p->banks, sizeof *c->bank_busy_until);
     c->bank_used = calloc(p->banks, sizeof *c->bank_used);
     c->bank_cycle = calloc(p->banks, sizeof *c->bank_cycle);
-    bool ok = c->tag && c->stamp && c->m && c->mline && c->busy_list && c->busy_pos && c->missq && c->w && c->readyq && c->bank_busy_until &&
+    bool ok = c->tag && c->stamp && c->m && c->mline && c->set_mshr && c->mnext && c->missq && c->w && c->readyq && c->bank_busy_until &&
               c->bank_used && c->bank_cycle;
     for (uint32_t i = 0; ok && i < p->mshrs; i++)
         ok = (c->m[i].wait = calloc(p->mshr_merge, sizeof(int))) != NULL;
@@ -177,6 +183,8 @@ cache_core *cache_core_create(const cache_params *p, char *err, size_t errlen)
         c->tag[i] = NO_LINE;
     for (uint32_t i = 0; i < p->mshrs; i++)
         c->mline[i] = NO_LINE;
+    for (uint32_t i = 0; i < c->nsets; i++)
+        c->set_mshr[i] = -1;
     for (uint32_t b = 0; b < p->banks; b++) {
         c->bank_busy_until[b] = -1;
         c->bank_cycle[b] = INT64_MIN;
@@ -197,8 +205,8 @@ void cache_core_destroy(cache_core *c)
     free(c->stamp);
     free(c->m);
     free(c->mline);
-    free(c->busy_list);
-    free(c->busy_pos);
+    free(c->set_mshr);
+    free(c->mnext);
     free(c->missq);
     free(c->w);
     free(c->readyq);
@@ -244,16 +252,15 @@ static inline int lookup(const cache_core *c, uint64_t line)
     return -1;
 }
 
-/* The busy MSHR waiting for line, or -1. A line has at most one MSHR (one is
- * allocated only when this finds none), so the search order does not matter. */
+/* The busy MSHR waiting for line, or -1: a walk of the line's set chain. A
+ * line has at most one MSHR (one is allocated only when this finds none), so
+ * the order of a chain does not matter. */
 static inline int find_mshr(const cache_core *c, uint64_t line)
 {
-    for (int i = 0; i < c->mshr_busy; i++) {
-        const int k = c->busy_list[i];
-        if (c->mline[k] == line)
-            return k;
-    }
-    return -1;
+    int k = c->set_mshr[set_of(c, line)];
+    while (k >= 0 && c->mline[k] != line)
+        k = c->mnext[k];
+    return k;
 }
 
 static int free_mshr(const cache_core *c)
@@ -286,8 +293,12 @@ static int alloc_mshr(cache_core *c, uint64_t line, int64_t now)
     m->since = now;
     m->nwait = 0;
     c->mline[k] = line;
-    c->busy_pos[k] = c->mshr_busy;
-    c->busy_list[c->mshr_busy++] = k;
+    c->mshr_busy++;
+    {   /* onto the front of its set's chain */
+        int *head = &c->set_mshr[set_of(c, line)];
+        c->mnext[k] = *head;
+        *head = k;
+    }
     c->missq[(c->missq_head + c->missq_n++) % (int)c->p.mshrs] = k;
     c->st.miss_lines++;
     if (c->hook)
@@ -598,7 +609,8 @@ int cache_core_fill(cache_core *c, const mem_resp *resp, int64_t now)
         return -1;
     mshr *m = &c->m[resp->tag];
     /* install: an invalid way, else the LRU way */
-    size_t base = (size_t)set_of(c, line) * c->p.ways, victim = base;
+    const uint32_t set = set_of(c, line);
+    size_t base = (size_t)set * c->p.ways, victim = base;
     for (uint32_t w = 0; w < c->p.ways; w++) {
         size_t i = base + w;
         if (!c->stamp[i]) {
@@ -625,10 +637,12 @@ int cache_core_fill(cache_core *c, const mem_resp *resp, int64_t now)
     m->busy = false;
     m->nwait = 0;
     c->mline[resp->tag] = NO_LINE;
-    { /* drop it from the busy list: the last entry takes its place */
-        const int k = (int)resp->tag, pos = c->busy_pos[k], last = c->busy_list[--c->mshr_busy];
-        c->busy_list[pos] = last;
-        c->busy_pos[last] = pos;
+    c->mshr_busy--;
+    {   /* off its set's chain */
+        int *link = &c->set_mshr[set];
+        while (*link != (int)resp->tag)
+            link = &c->mnext[*link];
+        *link = c->mnext[resp->tag];
     }
     return released;
 }

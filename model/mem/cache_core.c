@@ -241,6 +241,7 @@ static inline int lookup(const cache_core *c, uint64_t line)
     const size_t base = (size_t)set_of(c, line) * c->p.ways;
     const uint64_t *t = c->tag + base;
     if (c->p.ways == 4) {   /* the default of every cache: the same search, unrolled */
+#pragma GCC unroll 4
         for (uint32_t w = 0; w < 4; w++)
             if (t[w] == line)
                 return (int)(base + w);

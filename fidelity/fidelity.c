@@ -292,29 +292,26 @@ static int own_stats(fid_outcome *o)
                                "fills into never-used ways of node L2 and primitive cache / their fills, in the windows",
                                &w->cold_share);
     }
-    for (int u = 0; u < EU_COUNT && w->has_units; u++) {
-        /* the full model's names (model/energy/energy.c), so Table 1 reads either */
-        const char *n = energy_unit_name((energy_unit)u);
-        char key[96], desc[160];
-        snprintf(key, sizeof key, "energy.%s_dynamic_mj", n);
-        snprintf(desc, sizeof desc, "estimated dynamic energy of the %s units", n);
-        rc |= ks_stat_real_ref(st, key, "mJ", desc, &w->unit_dyn_mj[u]);
-        snprintf(key, sizeof key, "energy.%s_static_mj", n);
-        snprintf(desc, sizeof desc, "estimated static energy of the %s units", n);
-        rc |= ks_stat_real_ref(st, key, "mJ", desc, &w->unit_static_mj[u]);
-        snprintf(key, sizeof key, "energy.%s_mj", n);
-        snprintf(desc, sizeof desc, "estimated energy of the %s units", n);
-        rc |= ks_stat_real_ref(st, key, "mJ", desc, &w->unit_mj[u]);
-        snprintf(key, sizeof key, "power.%s_mw", n);
-        snprintf(desc, sizeof desc, "estimated mean power of the %s units", n);
-        rc |= ks_stat_real_ref(st, key, "mW", desc, &w->unit_mw[u]);
-        snprintf(key, sizeof key, "area.%s_mm2", n);
-        snprintf(desc, sizeof desc, "area of the %s units", n);
-        rc |= ks_stat_real_ref(st, key, "mm2", desc, &w->unit_mm2[u]);
-        snprintf(key, sizeof key, "error_estimate.power_%s_mw", n);
-        snprintf(desc, sizeof desc, "estimated error of power.%s_mw, relative", n);
-        rc |= ks_stat_real_ref(st, key, "%", desc, &w->unit_mw_err[u]);
-    }
+    /* windowed's Table 1 figures, under the full model's names
+     * (model/energy/energy.c), so Table 1 reads either */
+    const struct {
+        const char *key, *unit, *desc;
+        double *v;
+    } per_unit[] = {
+        {"energy.%s_dynamic_mj", "mJ", "estimated dynamic energy of the %s units", w->unit_dyn_mj},
+        {"energy.%s_static_mj", "mJ", "estimated static energy of the %s units", w->unit_static_mj},
+        {"energy.%s_mj", "mJ", "estimated energy of the %s units", w->unit_mj},
+        {"power.%s_mw", "mW", "estimated mean power of the %s units", w->unit_mw},
+        {"area.%s_mm2", "mm2", "area of the %s units", w->unit_mm2},
+        {"error_estimate.power_%s_mw", "%", "estimated error of power.%s_mw, relative", w->unit_mw_err},
+    };
+    for (int u = 0; u < EU_COUNT && w->has_units; u++)
+        for (size_t i = 0; i < sizeof per_unit / sizeof per_unit[0]; i++) {
+            char key[96], desc[160];
+            snprintf(key, sizeof key, per_unit[i].key, energy_unit_name((energy_unit)u));
+            snprintf(desc, sizeof desc, per_unit[i].desc, energy_unit_name((energy_unit)u));
+            rc |= ks_stat_real_ref(st, key, per_unit[i].unit, desc, &per_unit[i].v[u]);
+        }
     rc |= fid_register_stats(&o->res, st);
     return rc;
 }

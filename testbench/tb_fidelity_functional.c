@@ -23,11 +23,21 @@
 #include "testbench/tb.h"
 #include "tracer/scene.h"
 
-static rtcfg *machine_cfg(const char *preset, char *err, size_t errlen)
+/* The machine preset's configuration and the scene's BVH for it (*img;
+ * freed by the caller, built or not), or NULL with a message. */
+static rtcfg *machine_bvh(const rt_scene *sc, const char *preset, rt_bvh_image *img, char *err, size_t errlen)
 {
+    memset(img, 0, sizeof *img);
     rtcfg *cfg = rtcfg_create();
     if (!cfg || memsys_add_schemas(cfg, err, errlen) || accel_add_schemas(cfg, err, errlen) ||
         rtcfg_load(cfg, preset, err, errlen) || rtcfg_finish(cfg, err, errlen)) {
+        rtcfg_destroy(cfg);
+        return NULL;
+    }
+    rt_bvh_params bp;
+    rt_bvh_params_default(&bp);
+    bp.width = (int)rtcfg_int(cfg, "machine.branching");
+    if (!rt_bvh_build(&sc->mesh, &bp, img, NULL, err, errlen)) {
         rtcfg_destroy(cfg);
         return NULL;
     }
@@ -39,16 +49,13 @@ static void check_attribution(const rt_scene *sc, const char *preset, bool diffu
     char name[400], err[1024];
     snprintf(name, sizeof name, "functional_attribution_%s_%s_%s", sc->name, preset, diffuse ? "diffuse" : "primary");
     tb_begin(name);
-    rtcfg *cfg = machine_cfg(preset, err, sizeof err);
-    if (!TB_CHECK(cfg != NULL, "config: %s", err)) {
+    rt_bvh_image img;
+    rtcfg *cfg = machine_bvh(sc, preset, &img, err, sizeof err);
+    if (!TB_CHECK(cfg != NULL, "machine: %s", err)) {
+        rt_bvh_image_free(&img);
         tb_end();
         return;
     }
-    rt_bvh_params bp;
-    rt_bvh_params_default(&bp);
-    bp.width = (int)rtcfg_int(cfg, "machine.branching");
-    rt_bvh_image img;
-    memset(&img, 0, sizeof img);
     const uint32_t w = 64, h = 36;
     /* a subset in a lattice's order, as the windowed level runs it: 1 pixel in 3 */
     uint32_t px[64 * 36], n = 0;
@@ -56,8 +63,7 @@ static void check_attribution(const rt_scene *sc, const char *preset, bool diffu
         if ((p % w + 5 * (p / w)) % 3 == 0)
             px[n++] = p;
     fid_func_attr *attr = calloc(n, sizeof *attr);
-    if (TB_CHECK(attr != NULL, "out of memory") &&
-        TB_CHECK(rt_bvh_build(&sc->mesh, &bp, &img, NULL, err, sizeof err), "bvh: %s", err)) {
+    if (TB_CHECK(attr != NULL, "out of memory")) {
         fid_job job = {cfg, &sc->mesh, &sc->views.v[0], &img, w, h, diffuse, 2, 1, 0, NULL, NULL, 1, 0};
         fid_func plain, withattr;
         bool ran = TB_CHECK(fid_functional_run(&job, px, n, &plain, err, sizeof err) == 0, "run: %s", err) &&
@@ -121,20 +127,12 @@ static void check_phases(const rt_scene *sc)
 {
     char err[1024];
     tb_begin("functional_phase_excess_interior_mbvh4_primary");
-    rtcfg *cfg = machine_cfg("mbvh4", err, sizeof err);
-    if (!TB_CHECK(cfg != NULL, "config: %s", err)) {
-        tb_end();
-        return;
-    }
-    rt_bvh_params bp;
-    rt_bvh_params_default(&bp);
-    bp.width = (int)rtcfg_int(cfg, "machine.branching");
     rt_bvh_image img;
-    memset(&img, 0, sizeof img);
+    rtcfg *cfg = machine_bvh(sc, "mbvh4", &img, err, sizeof err);
     enum { W = 64, H = 36, N = 16384 };   /* 512 rays a phase: the TRVs' shares even out */
     uint32_t a = 0, b = 0;
     static uint32_t halves[N], alternate[N];
-    if (TB_CHECK(rt_bvh_build(&sc->mesh, &bp, &img, NULL, err, sizeof err), "bvh: %s", err)) {
+    if (TB_CHECK(cfg != NULL, "machine: %s", err)) {
         fid_job job = {cfg, &sc->mesh, &sc->views.v[0], &img, W, H, false, 0, 1, 0, NULL, NULL, 1, 0};
         fid_func f_halves, f_alt;
         if (TB_CHECK(extreme_pixels(&job, W * H, &a, &b, err, sizeof err), "no pixels of different loads: %s", err)) {

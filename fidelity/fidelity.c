@@ -161,7 +161,7 @@ static uint32_t *band_subset(const fid_job *job, uint32_t period, uint32_t group
 typedef struct model_fig {
     double cycles, rays, mrps, dram_bytes, energy_mj, static_mj, dram_mj, dram_static_mj;
     double mem_latency, dram_gbs, row_hit, mem_requests;
-    double unit_dyn_mj[5];        /* dynamic energy of trv, ist, stack, cache, fifo (get_fig's units) */
+    double unit_dyn_mj[EU_DRAM];  /* dynamic energy of the units before DRAM (energy.h order: trv .. fifo) */
 } model_fig;
 
 static double stat(ks_stats *st, const char *name) { return ks_stats_value_or(st, name, 0.0); }
@@ -175,19 +175,16 @@ static void get_fig(accel_top *t, model_fig *f)
     f->mrps = stat(st, "mrps");
     f->dram_bytes = stat(st, "dram_bytes");
     f->energy_mj = stat(st, "energy_mj");
-    static const char *const units[] = {"trv", "ist", "stack", "cache", "fifo", "dram"};
-    for (size_t i = 0; i < sizeof units / sizeof units[0]; i++) {
+    for (int u = 0; u < EU_COUNT; u++) {
         char k[64];
-        snprintf(k, sizeof k, "energy.%s_static_mj", units[i]);
+        snprintf(k, sizeof k, "energy.%s_static_mj", energy_unit_name((energy_unit)u));
         f->static_mj += stat(st, k);
+        snprintf(k, sizeof k, "energy.%s_dynamic_mj", energy_unit_name((energy_unit)u));
+        if (u < EU_DRAM)
+            f->unit_dyn_mj[u] = stat(st, k);
     }
     f->dram_mj = stat(st, "energy.dram_mj");
     f->dram_static_mj = stat(st, "energy.dram_static_mj");
-    for (size_t i = 0; i < 5; i++) {
-        char k[64];
-        snprintf(k, sizeof k, "energy.%s_dynamic_mj", units[i]);
-        f->unit_dyn_mj[i] = stat(st, k);
-    }
     f->mem_requests = stat(st, "memory.requests");
     f->mem_latency = f->mem_requests > 0 ? stat(st, "memory.latency_sum") / f->mem_requests : 0;
     f->dram_gbs = stat(st, "dram_bandwidth_gbs");
@@ -591,14 +588,17 @@ static double energy_ratio(const model_fig *m, const fid_func *fs, const fid_fun
     double acc_f = (double)(ff->l1.accesses + ff->l2.accesses + ff->prim.accesses);
 #define FID_RATIO(f, s) ((s) > 0 ? (f) / (s) : 0.0)
     double r_work = FID_RATIO(work_f, work_s), r_fill = fills_s > 0 ? FID_RATIO(fills_f, fills_s) : r_work;
-    /* trv, ist, stack, cache, fifo (model_fig.unit_dyn_mj): the work-side ratio of each */
-    const double r_unit[5] = {FID_RATIO((double)ff->box_tests, (double)fs->box_tests),
-                              FID_RATIO((double)ff->tri_tests, (double)fs->tri_tests),
-                              FID_RATIO((double)(ff->pushes + ff->pops), (double)(fs->pushes + fs->pops)),
-                              FID_RATIO(acc_f, acc_s), r_work};
-    const bool with_misses[5] = {false, true, false, true, true};
+    /* the units before DRAM (model_fig.unit_dyn_mj): the work-side ratio of each */
+    const double r_unit[EU_DRAM] = {
+        [EU_TRV] = FID_RATIO((double)ff->box_tests, (double)fs->box_tests),
+        [EU_IST] = FID_RATIO((double)ff->tri_tests, (double)fs->tri_tests),
+        [EU_STACK] = FID_RATIO((double)(ff->pushes + ff->pops), (double)(fs->pushes + fs->pops)),
+        [EU_CACHE] = FID_RATIO(acc_f, acc_s),
+        [EU_FIFO] = r_work,
+    };
+    const bool with_misses[EU_DRAM] = {[EU_IST] = true, [EU_CACHE] = true, [EU_FIFO] = true};
     double e = 0, range = 0;
-    for (int u = 0; u < 5; u++) {
+    for (int u = 0; u < EU_DRAM; u++) {
         double r = r_unit[u] > 0 ? r_unit[u] : r_work;
         if (with_misses[u]) {
             e += m->unit_dyn_mj[u] * 0.5 * (r + r_fill);

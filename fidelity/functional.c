@@ -387,9 +387,7 @@ int fid_functional_run_attributed(const fid_job *job, const uint32_t *pixels, ui
     cache_core_get_stats(st.l2, &out->l2);
     cache_core_get_stats(st.prim, &out->prim);
     phase_sum += end_phase(out, phase_start);
-    double busiest = (double)out->tri_tests;
-    for (uint32_t i = 0; i < ntrv; i++)
-        busiest = max2(busiest, (double)(out->trv_visits[i] + out->trv_leaves[i]));
+    double from_start[FID_MAX_TRV + 1] = {0}, busiest = end_phase(out, from_start);   /* over the whole run */
     out->phase_excess = busiest > 0 ? phase_sum / busiest - 1.0 : 0;
     throughput(job, out);
     rc = 0;

@@ -55,7 +55,9 @@ def run_point(rtsim, runs_dir, scene, rays, machine, res, sets=(), extra=()):
         cmd += list(extra)
         p = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         if p.returncode == 2:
-            raise Refused(p.stderr.strip().splitlines()[-1] if p.stderr.strip() else "exit 2")
+            # rtsim's message, without the "(see rtsim --help)" hint after it
+            lines = [l for l in p.stderr.strip().splitlines() if l and not l.startswith("(see ")]
+            raise Refused("; ".join(lines) if lines else "exit 2")
         if p.returncode != 0:
             raise RuntimeError("%s: exit %d: %s" % (" ".join(cmd), p.returncode, p.stderr.strip()[-400:]))
     with open(path) as f:

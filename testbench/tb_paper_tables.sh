@@ -65,6 +65,8 @@ check paper_tables_reuses_runs test "$stamp" = "$(stat -c %Y "$tmp/out/runs/inte
 expect paper_tables_bad_rays 2 "allowed primary, diffuse" -- scripts/paper-tables --bin "$RTSIM_BIN/rtsim" --rays shadow
 expect paper_tables_bad_jobs 2 "--jobs 0" -- scripts/paper-tables --bin "$RTSIM_BIN/rtsim" --jobs 0
 expect paper_tables_bad_table1_scene 2 "not among --scenes" -- scripts/paper-tables --bin "$RTSIM_BIN/rtsim" --scenes interior --table1-scene city
+# a bad --accuracy: rtsim's own message (not its "see --help" hint), exit 2
+expect paper_tables_bad_accuracy 2 "rtsim: --accuracy abc: expected a percentage in (0, 100]" -- scripts/paper-tables --bin "$RTSIM_BIN/rtsim" --scenes interior --res 16x9 --accuracy abc --out "$tmp/badacc"
 # --accuracy: every point at the level rtsim picks (hairball at 40%:
 # functional for some points); Table 1's scene again at full where its level
 # does not report each unit's power (functional, sampled); MRPS/mm2 from the

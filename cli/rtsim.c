@@ -437,11 +437,10 @@ static bool load_scene(job *j)
     if (!j->view)
         return false;
     rt_bvh_params bp;
-    rt_bvh_params_default(&bp);
-    bp.width = (int)rtcfg_int(j->cfg, "machine.branching");
+    rtsim_bvh_params(j->cfg, &bp);
     if (!rt_bvh_build(&j->sc.mesh, &bp, &j->img, NULL, j->err, sizeof j->err))
         return false;
-    if (!rtsim_frame_init(&j->frame, &j->sc.mesh, j->view, j->w, j->h, o->diffuse, (uint32_t)o->bounces, o->seed,
+    if (!rtsim_frame_init(&j->frame, j->cfg, &j->sc.mesh, j->view, j->w, j->h, o->diffuse, (uint32_t)o->bounces, o->seed,
                           o->heatmap != NULL, &j->src, j->err, sizeof j->err))
         return false;
     return !o->occlusion ||

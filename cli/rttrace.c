@@ -53,6 +53,7 @@ typedef struct options {
     int width;              /* BVH width (--bvh) */
     uint64_t leaf_size, stack_depth, bounces, seed;
     int rays;               /* index in ray_kinds */
+    int builder;            /* index in builder_kinds = rt_build_kind */
     bool diffuse, occlusion, check_embree, quiet;
     bool bvh_given, rays_given, res_given, bounces_given, stack_given;   /* on the command line */
     ks_out *out_log, *out_image, *out_hm_visits, *out_hm_tris, *out_json;   /* output plans */
@@ -64,6 +65,8 @@ typedef struct options {
 
 enum { RAYS_PRIMARY, RAYS_DIFFUSE, RAYS_OCCLUSION };
 static const char *const ray_kinds[] = {"primary", "diffuse", "occlusion", NULL};
+/* --builder, in rt_build_kind order (tracer/bvh.h) */
+static const char *const builder_kinds[] = {"collapse", "wald", NULL};
 
 /* --bvh: bvh2 or mbvhN, N = 2..8 (the width) */
 static bool parse_bvh(const char *text, void *to, char *err, size_t errlen)
@@ -101,6 +104,10 @@ static int parse_options(int argc, char **argv, options *o)
         {.name = "bvh", .kind = CLI_CUSTOM, .to.custom = &o->width, .parse = parse_bvh, .arg = "bvh2|mbvh4|mbvhN",
          .def = "mbvh4", .given = &o->bvh_given, .what = "is not a BVH type; allowed: bvh2, mbvh4, mbvhN with N = 2..8",
          .help = "BVH width, N = 2..8 (default {default})"},
+        {.name = "builder", .kind = CLI_CHOICE, .to.choice = &o->builder, .choices = builder_kinds,
+         .def = "collapse", .what = "is not a builder; allowed: %s",
+         .help = "how an MBVH is made from the SAH sweep: collapse, or wald (top-down splitting,\n"
+                 "leaves cut by size only; docs/tracer-bvh.md); a BVH2 ignores it (default {default})"},
         {.name = "leaf-size", .kind = CLI_UINT, .to.u = &o->leaf_size, .arg = "N", .min = 1, .max = RT_LEAF_MAX,
          .def = "4", .help = "max triangles per leaf, {range} (default {default})"},
         {.name = "rays", .kind = CLI_CHOICE, .to.choice = &o->rays, .choices = ray_kinds, .def = "primary",
@@ -322,6 +329,8 @@ static void fill_run(const run_info *ri, const stats *s, bool read_mode, const r
     cli_run_lines_add(&l, "bvh.width", "", "", v);
     snprintf(v, sizeof v, "%d", ri->bp->leaf_size);
     cli_run_lines_add(&l, "bvh.leaf_size", "", "", v);
+    if (ri->bp->width > 2 && ri->bp->builder == RT_BUILD_WALD)   /* the collapse keeps the hash it had */
+        cli_run_lines_add(&l, "bvh.builder", "", "", builder_kinds[ri->bp->builder]);
     snprintf(v, sizeof v, "%" PRIu64, o->stack_depth);
     cli_run_lines_add(&l, "traversal.stack_depth", "", "", v);
     g_run.has_config_hash = cli_run_lines_hash(&l, &g_run.config_hash);
@@ -356,6 +365,7 @@ static void json_common(FILE *f, const run_info *ri, bool *first)
     json_s(f, "mesh_hash", hex, first);
     json_u(f, "bvh_width", (uint64_t)ri->bp->width, first);
     json_u(f, "leaf_size", (uint64_t)ri->bp->leaf_size, first);
+    json_s(f, "bvh_builder", ri->bp->width > 2 ? builder_kinds[ri->bp->builder] : "sah", first);
     snprintf(hex, sizeof hex, "%016" PRIx64, ri->img->hash);
     json_s(f, "bvh_image_hash", hex, first);
     json_u(f, "bvh_inner_nodes", ri->bs->inner_nodes, first);
@@ -477,8 +487,9 @@ static void print_build(const run_info *ri)
     const rt_bvh_stats *b = ri->bs;
     printf("scene      %s: %u triangles, mesh hash %016" PRIx64 "\n", ri->sc->name, ri->sc->mesh.ntris,
            rt_mesh_hash(&ri->sc->mesh));
-    printf("bvh        %s%d (leaf size <= %d): %u inner nodes, %u leaves, depth %u, SAH cost %.2f\n",
-           ri->bp->width == 2 ? "bvh" : "mbvh", ri->bp->width, ri->bp->leaf_size, b->inner_nodes, b->leaves,
+    printf("bvh        %s%d (leaf size <= %d%s): %u inner nodes, %u leaves, depth %u, SAH cost %.2f\n",
+           ri->bp->width == 2 ? "bvh" : "mbvh", ri->bp->width, ri->bp->leaf_size,
+           ri->bp->width > 2 && ri->bp->builder == RT_BUILD_WALD ? ", wald builder" : "", b->inner_nodes, b->leaves,
            b->max_depth, b->sah_cost);
     printf("           %" PRIu64 " B nodes + %" PRIu64 " B triangles (image %" PRIu64 " B, hash %016" PRIx64
            "), built in %.3f s\n",
@@ -607,6 +618,7 @@ static int load_world(options *o, world *w)
     rt_bvh_params_default(&w->bp);
     w->bp.width = o->width;
     w->bp.leaf_size = (int)o->leaf_size;
+    w->bp.builder = o->builder;
     if (!rt_bvh_build(&w->sc.mesh, &w->bp, &w->img, &w->bs, err, sizeof err)) {
         fprintf(stderr, "rttrace: BVH: %s\n", err);
         return 2;

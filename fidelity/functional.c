@@ -297,7 +297,7 @@ int fid_functional_run_attributed(const fid_job *job, const uint32_t *pixels, ui
         snprintf(err, errlen, "out of memory");
         return -1;
     }
-    if (!rtsim_frame_init(&st.frame, job->mesh, job->view, job->width, job->height, job->diffuse, job->bounces,
+    if (!rtsim_frame_init(&st.frame, job->cfg, job->mesh, job->view, job->width, job->height, job->diffuse, job->bounces,
                           job->seed, false, &src, err, errlen))
         goto done;
     for (uint32_t i = 0; i < ntrv; i++)
@@ -356,7 +356,7 @@ int fid_functional_run_attributed(const fid_job *job, const uint32_t *pixels, ui
                 uint64_t p = pixels ? pixels[next_primary] : next_primary;
                 s->path = (uint32_t)next_primary, s->bounce = false;
                 next_primary++;
-                s->ray = rt_camera_primary_ray(&st.frame.cam, (uint32_t)(p % job->width), (uint32_t)(p / job->width));
+                s->ray = rtsim_frame_camera_ray(&st.frame, p);   /* p: a position in the pixel order */
                 out->primaries++;
                 trace_slot(&st, s, trv);
                 busy++;

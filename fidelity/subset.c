@@ -22,7 +22,7 @@ int fid_subset_open(fid_subset *s, const fid_job *job, const rtcfg *cfg, const u
                     size_t errlen)
 {
     memset(s, 0, sizeof *s);
-    if (!rtsim_frame_init(&s->frame, job->mesh, job->view, job->width, job->height, job->diffuse, job->bounces,
+    if (!rtsim_frame_init(&s->frame, cfg, job->mesh, job->view, job->width, job->height, job->diffuse, job->bounces,
                           job->seed, false, &s->src, err, errlen))
         return 2;
     s->map = map;

@@ -33,6 +33,7 @@ double fid_t95(int dof)
 typedef struct path_tracer {
     const fid_job *job;
     rt_camera cam;
+    uint32_t *order;   /* the frame's pixel order (frame.h); NULL: scanline */
     rt_trv_params tp;
 } path_tracer;
 
@@ -40,12 +41,19 @@ static int path_tracer_init(path_tracer *pt, const fid_job *job, char *err, size
 {
     memset(pt, 0, sizeof *pt);
     pt->job = job;
-    if (!rt_camera_init(&pt->cam, job->view, job->width, job->height, err, errlen))
+    if (!rt_camera_init(&pt->cam, job->view, job->width, job->height, err, errlen) ||
+        !rtsim_pixel_order(job->cfg, job->width, job->height, &pt->order, err, errlen))
         return 2;
     accel_params ap;
     accel_params_get(job->cfg, &ap);
     rtsim_trv_params(&ap, job->img->width, &pt->tp);
     return 0;
+}
+
+static void path_tracer_free(path_tracer *pt)
+{
+    free(pt->order);
+    pt->order = NULL;
 }
 
 /* The traversal work of pixel p's path (node visits + triangle tests, the
@@ -54,7 +62,8 @@ static int path_tracer_init(path_tracer *pt, const fid_job *job, char *err, size
 static void path_work(const path_tracer *pt, uint32_t p, double work[2])
 {
     const fid_job *job = pt->job;
-    rt_ray ray = rt_camera_primary_ray(&pt->cam, p % job->width, p / job->width), next;
+    const uint32_t px = rt_pixel_at(pt->order, p);   /* p: a position in the pixel order */
+    rt_ray ray = rt_camera_primary_ray(&pt->cam, px % job->width, px / job->width), next;
     rt_hit hit;
     work[FID_AUX_PRIMARY] = work[FID_AUX_BOUNCE] = 0;
     for (bool bounce = false;; bounce = true) {
@@ -251,6 +260,7 @@ static int run_window(const win_plan *pl, uint32_t i, win_piece *r, char *err, s
             double *x = k < r->a.primaries ? r->x_warm : r->x_win;
             x[FID_AUX_PRIMARY] += work[FID_AUX_PRIMARY], x[FID_AUX_BOUNCE] += work[FID_AUX_BOUNCE];
         }
+        path_tracer_free(&pt);
     }
     fid_subset_close(&sub);
     free(map);

@@ -22,11 +22,16 @@ void rtsim_from_model(const accel_ray_in *i, rt_ray *r)
     r->occlusion = i->occlusion;
 }
 
+rt_ray rtsim_frame_camera_ray(const rtsim_frame *f, uint64_t k)
+{
+    const uint32_t p = rtsim_frame_pixel(f, k);
+    return rt_camera_primary_ray(&f->cam, p % f->cam.width, p / f->cam.width);
+}
+
 void rtsim_frame_primary(void *user, uint64_t i, accel_ray_in *out)
 {
     rtsim_frame *f = user;
-    uint32_t px = (uint32_t)(i % f->cam.width), py = (uint32_t)(i / f->cam.width);
-    rt_ray r = rt_camera_primary_ray(&f->cam, px, py);
+    rt_ray r = rtsim_frame_camera_ray(f, i);
     rtsim_to_model(&r, out);
 }
 
@@ -68,6 +73,17 @@ void rtsim_trv_params(const accel_params *ap, int width, rt_trv_params *out)
     out->distance_cull = ap->trv.core.distance_cull;   /* accel_config: auto = N > 2 */
 }
 
+void rtsim_bvh_params(const rtcfg *cfg, rt_bvh_params *out)
+{
+    rt_bvh_params_default(out);
+    out->width = (int)rtcfg_int(cfg, "machine.branching");
+    out->builder = rtcfg_enum(cfg, "bvh.builder") == 1 ? RT_BUILD_WALD : RT_BUILD_COLLAPSE;
+    out->leaf_size = (int)rtcfg_int(cfg, "bvh.leaf_size");
+    out->bins = (int)rtcfg_int(cfg, "bvh.bins");
+    out->cost_node = (float)rtcfg_real(cfg, "bvh.cost_node");
+    out->cost_tri = (float)rtcfg_real(cfg, "bvh.cost_tri");
+}
+
 /* The model's view of a tracer memory image. */
 accel_image rtsim_image(const rt_bvh_image *img)
 {
@@ -76,13 +92,25 @@ accel_image rtsim_image(const rt_bvh_image *img)
     return a;
 }
 
+bool rtsim_pixel_order(const rtcfg *cfg, uint32_t width, uint32_t height, uint32_t **order, char *err,
+                       size_t errlen)
+{
+    *order = NULL;
+    if (!cfg)
+        return true;
+    return rt_pixel_order_make((rt_pixel_order_kind)rtcfg_enum(cfg, "sched.pixel_order"),
+                               (uint32_t)rtcfg_int(cfg, "sched.tile"), width, height, order, err, errlen);
+}
+
 /* Sets up the source; keep_pixels allocates the heatmap buffer. */
-bool rtsim_frame_init(rtsim_frame *f, const rt_mesh *mesh, const rt_view *view, uint32_t width,
+bool rtsim_frame_init(rtsim_frame *f, const rtcfg *cfg, const rt_mesh *mesh, const rt_view *view, uint32_t width,
                                     uint32_t height, bool diffuse, uint32_t max_bounces, uint64_t seed,
                                     bool keep_pixels, accel_source *src, char *err, size_t errlen)
 {
     memset(f, 0, sizeof *f);
     if (!rt_camera_init(&f->cam, view, width, height, err, errlen))
+        return false;
+    if (!rtsim_pixel_order(cfg, width, height, &f->order, err, errlen))
         return false;
     f->mesh = mesh;
     f->diffuse = diffuse;
@@ -92,6 +120,7 @@ bool rtsim_frame_init(rtsim_frame *f, const rt_mesh *mesh, const rt_view *view, 
         f->pixel_cycles = calloc((size_t)width * height, sizeof *f->pixel_cycles);
         if (!f->pixel_cycles) {
             snprintf(err, errlen, "out of memory for a %ux%u heatmap", width, height);
+            rtsim_frame_free(f);
             return false;
         }
     }
@@ -136,7 +165,8 @@ bool rtsim_frame_occlusion(rtsim_frame *f, const rt_bvh_image *img, uint32_t sam
     rt_trv_params_default(&tp, img->width);
     tp.stack_depth = 4096;   /* host-side pre-pass: the largest stack (hits do not depend on it) */
     f->occ_n = 0;
-    for (uint32_t p = 0; p < n; p++) {
+    for (uint32_t k = 0; k < n; k++) {   /* the hit pixels in the frame's pixel order */
+        const uint32_t p = rtsim_frame_pixel(f, k);
         const rt_ray prim = rt_camera_primary_ray(&f->cam, p % f->cam.width, p / f->cam.width);
         rt_hit h;
         rt_ray probe;
@@ -160,6 +190,8 @@ void rtsim_frame_free(rtsim_frame *f)
     free(f->pixel_cycles);
     free(f->occ_pixel);
     free(f->occ_hit);
+    free(f->order);
+    f->order = NULL;
     f->pixel_cycles = NULL;
     f->occ_pixel = NULL;
     f->occ_hit = NULL;

@@ -5,14 +5,17 @@
  *
  * Contract: rtsim_frame_init() loads nothing itself; it takes a loaded scene
  * and a built BVH image and a camera, and provides
- *   - primary rays in pixel order (camera.h),
+ *   - primary rays in the machine's pixel order (sched.pixel_order and
+ *     sched.tile, tracer/pixel_order.h): primary ray k is the camera ray of
+ *     pixel rtsim_frame_pixel(f, k); everything that counts rays "in order"
+ *     (the fidelity levels' bands, windows and lattices) counts these k;
  *   - for diffuse runs the bounce ray of each completed ray (bounce.h, the
  *     same seed convention as the tracer, so paths do not depend on the order
  *     the hardware completes rays in),
  *   - for occlusion runs (rtsim_frame_occlusion) the occlusion rays only:
  *     the primary rays are traced on the host with the reference traversal
  *     and the model gets their AO rays (occlusion.h; samples consecutive per
- *     pixel, pixels in order), the same rays as rt_ray_set_occlusion,
+ *     pixel, pixels in the frame's pixel order), the rays of rt_ray_set_occlusion,
  *   - per-pixel simulated cycles (sum of its rays' latencies) for heatmaps,
  *   - an optional per-ray completion hook.
  * A library of its own (frame/ -> libframe.a): rtsim, the system testbench
@@ -34,6 +37,7 @@
 #include "tracer/bvh.h"
 #include "tracer/camera.h"
 #include "tracer/occlusion.h"
+#include "tracer/pixel_order.h"
 #include "tracer/ray.h"
 #include "tracer/scene.h"
 #include "tracer/traverse.h"
@@ -44,6 +48,7 @@ typedef void (*rtsim_complete_hook)(void *user, uint32_t uid, const rt_ray *ray,
 typedef struct rtsim_frame {
     const rt_mesh *mesh;
     rt_camera cam;
+    uint32_t *order;              /* pixel of the k-th primary ray (pixel_order.h); NULL: scanline */
     bool diffuse;
     uint32_t max_bounces;
     uint64_t seed;
@@ -65,15 +70,31 @@ bool rtsim_frame_bounce(void *user, const accel_ray_in *in, const accel_hit *hit
 void rtsim_frame_complete(void *user, uint32_t uid, const accel_ray_in *in, const accel_hit *hit,
                                         uint64_t admit, uint64_t done, uint32_t visits, uint32_t tri_tests,
                                         bool failed);
+/* The BVH builder's parameters of machine cfg: width machine.branching,
+ * the rest from its [bvh] section (model/accel_config.c). */
+void rtsim_bvh_params(const rtcfg *cfg, rt_bvh_params *out);
 /* The model's view of a tracer memory image. */
 accel_image rtsim_image(const rt_bvh_image *img);
 /* The reference traversal's parameters as the machine ap runs it (its
  * stack depth and distance stack), for a BVH of the given width. */
 void rtsim_trv_params(const accel_params *ap, int width, rt_trv_params *out);
-/* Sets up the source; keep_pixels allocates the heatmap buffer. */
-bool rtsim_frame_init(rtsim_frame *f, const rt_mesh *mesh, const rt_view *view, uint32_t width,
+/* Sets up the source; keep_pixels allocates the heatmap buffer. The pixel
+ * order comes from cfg's sched.pixel_order and sched.tile (NULL cfg:
+ * scanline). */
+bool rtsim_frame_init(rtsim_frame *f, const rtcfg *cfg, const rt_mesh *mesh, const rt_view *view, uint32_t width,
                                     uint32_t height, bool diffuse, uint32_t max_bounces, uint64_t seed,
                                     bool keep_pixels, accel_source *src, char *err, size_t errlen);
+/* The pixel order of cfg (sched.pixel_order, sched.tile) for a width x height
+ * frame, as rt_pixel_order_make() gives it (*order NULL: scanline). */
+bool rtsim_pixel_order(const rtcfg *cfg, uint32_t width, uint32_t height, uint32_t **order, char *err,
+                       size_t errlen);
+/* The pixel (py * width + px) of the frame's k-th primary ray. */
+static inline uint32_t rtsim_frame_pixel(const rtsim_frame *f, uint64_t k)
+{
+    return rt_pixel_at(f->order, k);
+}
+/* The camera ray of the frame's k-th primary ray. */
+rt_ray rtsim_frame_camera_ray(const rtsim_frame *f, uint64_t k);
 /* Occlusion ray i: sample i % samples of the i / samples-th hit pixel. */
 void rtsim_frame_occlusion_ray(void *user, uint64_t i, accel_ray_in *out);
 /* Turns an initialised frame into an occlusion run: traces the primary rays

@@ -24,10 +24,27 @@ static const rtcfg_param fifo_params_tab[] = {
 static int check_ray_side(const rtcfg *cfg, char *err, size_t errlen);
 const rtcfg_schema accel_schema_fifo = {"fifo", "ray-side FIFOs", fifo_params_tab, 7, check_ray_side};
 
+/* The BVH the machine walks: built on the host by the tracer (tracer/bvh.h),
+ * whose builder the paper names but whose parameters it leaves open (sec.
+ * 3.2: "BVH trees are constructed with a binned SAH sweep, and MBVHs with
+ * Wald's top-down recursive splitting algorithm"). frame/frame.h
+ * (rtsim_bvh_params) turns these keys into the builder's parameters. */
+static const rtcfg_param bvh_params_tab[] = {
+    {"builder", RTCFG_ENUM, "collapse", 0, 0, 0, "collapse|wald", "",
+     "how an N-wide MBVH is built: collapse (the binned-SAH BVH2, its SAH also ending leaves, collapsed N wide) "
+     "or wald (top-down recursive splitting, paper sec. 3.2: the same SAH splits, leaves cut by size only, "
+     "grouped N wide); BVH2 machines ignore it (ours: collapse, docs/paper.md \"Builder\")"},
+    {"leaf_size", RTCFG_INT, "4", 1, RT_LEAF_MAX, 0, NULL, "triangles", "most triangles in a leaf (ours)"},
+    {"bins", RTCFG_INT, "16", 4, 256, 0, NULL, "bins", "SAH bins per axis of the binned sweep (ours)"},
+    {"cost_node", RTCFG_REAL, "1", 1e-6, 1e6, 0, NULL, "", "SAH cost of a node visit (ours)"},
+    {"cost_tri", RTCFG_REAL, "1", 1e-6, 1e6, 0, NULL, "", "SAH cost of a triangle test (ours)"},
+};
+const rtcfg_schema accel_schema_bvh = {"bvh", "the BVH built for the machine (host side)", bvh_params_tab, 5, NULL};
+
 int accel_add_schemas(rtcfg *cfg, char *err, size_t errlen)
 {
     const rtcfg_schema *all[] = {&trv_schema, &ist_schema, &sched_schema, &accel_schema_fifo,
-                                 &energy_schema};
+                                 &accel_schema_bvh, &energy_schema};
     for (size_t i = 0; i < sizeof all / sizeof all[0]; i++)
         if (rtcfg_add_schema(cfg, all[i], err, errlen))
             return -1;

@@ -3,7 +3,8 @@
  * conversion to the units' parameters. Needs no kernel.
  *
  * Sections: [trv] (count, slots, stack, pipeline stages, FLOPs), [ist],
- * [sched], and the ray-side keys of [fifo] (ray_*). Defaults are the paper's
+ * [sched], the ray-side keys of [fifo] (ray_*), and [bvh] (the host-side
+ * builder's parameters). Defaults are the paper's
  * (sec. 3, 3.1); the machine width comes from machine.branching. The table
  * of the ray-side FIFOs (accel_ray_fifos) and their deadlock-free minima. */
 #ifndef RTSIM_MODEL_ACCEL_CONFIG_H
@@ -29,6 +30,7 @@ typedef struct accel_params {
 } accel_params;
 
 extern const rtcfg_schema accel_schema_fifo;
+extern const rtcfg_schema accel_schema_bvh;   /* [bvh]: the host-side BVH builder's keys */
 
 /* Registers the schemas above. */
 int accel_add_schemas(rtcfg *cfg, char *err, size_t errlen);

@@ -60,6 +60,8 @@ struct accel_top {
     uint64_t livelock_window;  /* watchdog: no committed work (0 = off) */
     uint64_t guard_cycle;      /* where the livelock guard was engaged, 0: never */
     double stat_mrps, stat_dram_gbs, stat_in_flight;
+    uint64_t stat_traffic[6];   /* dram_node_bytes .. dram_refetch_misses (traffic_stats) */
+    double stat_dram_pj_per_byte;
 };
 
 /* The statistic named by the format, or 0 when no statistic has that name
@@ -144,6 +146,20 @@ static const ks_desc_item accel_items[] = {
     {KS_DESC_STAT, "dram_bytes", "bytes", "", "", "bytes transferred from/to main memory"},
     {KS_DESC_STAT, "dram_bandwidth_gbs", "GB/s", "", "", "mean main memory bandwidth over the frame"},
     {KS_DESC_STAT, "rays_in_flight_mean", "rays", "", "", "time-averaged rays in flight"},
+    /* what explains the DRAM traffic (docs/results.md "DRAM traffic"): the
+     * memory arbiter's per-input counts, input 0 the node L2, 1 the
+     * primitive cache (model/mem/mem_arbiter.h) */
+    {KS_DESC_STAT, "dram_node_bytes", "bytes", "", "", "main memory bytes of node fills (node L2 misses)"},
+    {KS_DESC_STAT, "dram_triangle_bytes", "bytes", "", "", "main memory bytes of triangle fills (primitive cache misses)"},
+    {KS_DESC_STAT, "dram_footprint_bytes", "bytes", "", "",
+     "distinct bytes the frame read from main memory (32-byte granules): the traffic of a cache that never evicts"},
+    {KS_DESC_STAT, "dram_refetch_bytes", "bytes", "", "",
+     "main memory bytes read again after an eviction (capacity and conflict misses): dram_bytes - footprint"},
+    {KS_DESC_STAT, "dram_compulsory_misses", "requests", "", "",
+     "line fills whose line no earlier fill of the frame touched (first touch)"},
+    {KS_DESC_STAT, "dram_refetch_misses", "requests", "", "", "line fills of a line filled before (refetches)"},
+    {KS_DESC_STAT, "dram_pj_per_byte", "pJ/byte", "", "",
+     "DRAM energy (dynamic and background) per byte transferred; 0 without energy or traffic"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
 };
 const ks_module_desc accel_top_module_desc = {"accel", "the frame's figures (top level)", accel_items, "machine"};
@@ -332,6 +348,24 @@ static void compute_energy(accel_top *t)
     energy_compute(t->energy, &a, stat_named(t->stats, "mrps"));
 }
 
+static const char *const traffic_stat_names[6] = {"dram_node_bytes",      "dram_triangle_bytes",
+                                                  "dram_footprint_bytes", "dram_refetch_bytes",
+                                                  "dram_compulsory_misses", "dram_refetch_misses"};
+
+/* The frame's DRAM traffic by kind and cause, from the memory arbiter's
+ * counts (input 0: node L2, 1: primitive cache). */
+static void traffic_stats(accel_top *t)
+{
+    const ks_stats *st = t->stats;
+    uint64_t *v = t->stat_traffic;
+    v[0] = (uint64_t)stat_named(st, "mem_arbiter.bytes_0");
+    v[1] = (uint64_t)stat_named(st, "mem_arbiter.bytes_1");
+    v[2] = (uint64_t)(stat_named(st, "mem_arbiter.footprint_bytes_0") + stat_named(st, "mem_arbiter.footprint_bytes_1"));
+    v[3] = v[0] + v[1] > v[2] ? v[0] + v[1] - v[2] : 0;
+    v[4] = (uint64_t)(stat_named(st, "mem_arbiter.first_touch_0") + stat_named(st, "mem_arbiter.first_touch_1"));
+    v[5] = (uint64_t)(stat_named(st, "mem_arbiter.refetches_0") + stat_named(st, "mem_arbiter.refetches_1"));
+}
+
 static uint64_t ceil_div(uint64_t a, uint64_t b) { return b ? (a + b - 1) / b : 0; }
 
 /* An upper bound, in accelerator cycles, on how long a valid run of the
@@ -500,6 +534,9 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     rc |= ks_stat_decl_counter(t->stats, top, NULL, "dram_bytes", &t->stat_dram_bytes);
     rc |= ks_stat_decl_real(t->stats, top, NULL, "dram_bandwidth_gbs", &t->stat_dram_gbs);
     rc |= ks_stat_decl_real(t->stats, top, NULL, "rays_in_flight_mean", &t->stat_in_flight);
+    for (int k = 0; k < 6; k++)
+        rc |= ks_stat_decl_counter(t->stats, top, NULL, traffic_stat_names[k], &t->stat_traffic[k]);
+    rc |= ks_stat_decl_real(t->stats, top, NULL, "dram_pj_per_byte", &t->stat_dram_pj_per_byte);
     rc |= sched_register(t->sched, "sched", t->stats, t->vcd);
     for (uint32_t i = 0; i < ntrv; i++) {
         rc |= trv_register(t->trv[i], t->names[i], t->stats, t->vcd);
@@ -579,8 +616,11 @@ static void finish_stats(accel_top *t, uint64_t stop_cycle)
     t->stat_dram_bytes = t->mem ? memsys_memory_bytes(t->mem) : 0;
     t->stat_dram_gbs = t->seconds > 0 ? (double)t->stat_dram_bytes / t->seconds / 1e9 : 0.0;
     t->stat_in_flight = sched_mean_in_flight(t->sched, t->cycles);
+    traffic_stats(t);
     if (t->energy)
         compute_energy(t);
+    const double dram_mj = stat_named(t->stats, "energy.dram_mj");
+    t->stat_dram_pj_per_byte = t->stat_dram_bytes ? dram_mj * 1e9 / (double)t->stat_dram_bytes : 0.0;
 }
 
 /* Appends one line per busy unit and its cache to err (watchdog report). */
@@ -820,6 +860,18 @@ void accel_top_print_summary(accel_top *t, FILE *out)
     fprintf(out, ", prim %.2f%% (%.0f)\n", percent(stat_named(st, "prim.hits"), accesses), accesses);
     fprintf(out, "DRAM        %.2f MB, %.2f GB/s (%s memory)\n", stat_named(st, "dram_bytes") / 1e6,
             stat_named(st, "dram_bandwidth_gbs"), memsys_memory_model(t->mem) == MEMSYS_LPDDR3 ? "LPDDR3" : "fixed-latency");
+    double row_hits;
+    const bool lpddr3 = ks_stats_value(st, "dram.row_hit_rate", &row_hits) == 0;
+    fprintf(out, "traffic     nodes %.2f MB, triangles %.2f MB; footprint %.2f MB, refetched %.2f MB (%.0f first-touch "
+                 "fills, %.0f refetches)",
+            stat_named(st, "dram_node_bytes") / 1e6, stat_named(st, "dram_triangle_bytes") / 1e6,
+            stat_named(st, "dram_footprint_bytes") / 1e6, stat_named(st, "dram_refetch_bytes") / 1e6,
+            stat_named(st, "dram_compulsory_misses"), stat_named(st, "dram_refetch_misses"));
+    if (lpddr3)
+        fprintf(out, "; row hits %.1f%%", 100.0 * row_hits);
+    if (t->energy)
+        fprintf(out, "; %.0f pJ/B", stat_named(st, "dram_pj_per_byte"));
+    fprintf(out, "\n");
     if (t->energy)
         energy_print_summary(t->energy, out);
 }

@@ -489,7 +489,7 @@ static void run_one(const drawn_config *c, unsigned index, scene_slot *s, bool d
     if (!TB_CHECK(img != NULL, "scene %s: %s", s->name, err))
         goto out;
     accel_source src;
-    if (!TB_CHECK(rtsim_frame_init(&fr, &s->sc.mesh, &s->sc.views.v[0], w, h, diffuse, 2, index + 1, false, &src, err,
+    if (!TB_CHECK(rtsim_frame_init(&fr, cfg, &s->sc.mesh, &s->sc.views.v[0], w, h, diffuse, 2, index + 1, false, &src, err,
                                    sizeof err),
                   "%s", err))
         goto out;

@@ -193,8 +193,7 @@ static void check_spec(const rt_scene *sc, const case_spec *cs, totals *tot, ray
         return;
     }
     rt_bvh_params bp;
-    rt_bvh_params_default(&bp);
-    bp.width = (int)rtcfg_int(cfg, "machine.branching");
+    rtsim_bvh_params(cfg, &bp);
     rt_bvh_image img;
     memset(&img, 0, sizeof img);
     run_log log = {0};
@@ -204,7 +203,7 @@ static void check_spec(const rt_scene *sc, const case_spec *cs, totals *tot, ray
     if (!TB_CHECK(rt_bvh_build(&sc->mesh, &bp, &img, NULL, err, sizeof err), "bvh: %s", err))
         goto out;
     accel_source src;
-    if (!TB_CHECK(rtsim_frame_init(&fr, &sc->mesh, &sc->views.v[0], w, h, diffuse, 4, cs->seed ? cs->seed : 1, false,
+    if (!TB_CHECK(rtsim_frame_init(&fr, cfg, &sc->mesh, &sc->views.v[0], w, h, diffuse, 4, cs->seed ? cs->seed : 1, false,
                                    &src, err, sizeof err),
                   "%s", err))
         goto out;
@@ -283,13 +282,30 @@ static void check_spec(const rt_scene *sc, const case_spec *cs, totals *tot, ray
                                               sizeof err),
                          "%s", err)) {
                 want = occ_set.n;
-                /* the same rays in the same order (uid = admission order = set order here) */
-                uint64_t differ = 0;
-                for (uint32_t i = 0; i < occ_set.n && i < log.cap && i < log.completed; i++) {
-                    const rt_ray *a = &occ_set.rays[i], *b = &log.recs[i].ray;
+                /* the same rays: the set holds each hit pixel's samples
+                 * consecutively, pixels in scanline order; the model admits
+                 * them in the frame's pixel order (uid = admission order), so
+                 * the uid-th ray is sample uid % S of its pixel in the set */
+                const uint32_t S = RT_AO_SAMPLES_DEFAULT;
+                uint32_t *first = malloc((size_t)w * h * sizeof *first);
+                uint64_t differ = first ? 0 : 1;
+                for (uint32_t i = 0; first && i < w * h; i++)
+                    first[i] = UINT32_MAX;
+                for (uint32_t i = 0; first && i < occ_set.n; i += S)
+                    if (occ_set.rays[i].pixel < w * h)
+                        first[occ_set.rays[i].pixel] = i;
+                for (uint32_t i = 0; first && i < occ_set.n && i < log.cap && i < log.completed; i++) {
+                    const rt_ray *b = &log.recs[i].ray;
+                    const uint32_t j = b->pixel < w * h ? first[b->pixel] : UINT32_MAX;
+                    if (j == UINT32_MAX || j + i % S >= occ_set.n) {
+                        differ++;
+                        continue;
+                    }
+                    const rt_ray *a = &occ_set.rays[j + i % S];
                     differ += memcmp(&a->org, &b->org, sizeof a->org) || memcmp(&a->dir, &b->dir, sizeof a->dir) ||
                               !same_float(a->tmax, b->tmax) || a->pixel != b->pixel || !b->occlusion;
                 }
+                free(first);
                 TB_EQ_INT(differ, 0);
             }
             rt_ray_set_free(&occ_set);
@@ -365,15 +381,14 @@ static uint64_t run_frame_with(const rt_scene *sc, const char *preset, const cha
     if (!cfg)
         return 0;
     rt_bvh_params bp;
-    rt_bvh_params_default(&bp);
-    bp.width = (int)rtcfg_int(cfg, "machine.branching");
+    rtsim_bvh_params(cfg, &bp);
     rt_bvh_image img;
     uint64_t cycles = 0;
     rtsim_frame fr;
     memset(&fr, 0, sizeof fr);
     if (rt_bvh_build(&sc->mesh, &bp, &img, NULL, err, errlen)) {
         accel_source src;
-        if (rtsim_frame_init(&fr, &sc->mesh, &sc->views.v[0], w, h, diffuse, 4, 1, false, &src, err, errlen)) {
+        if (rtsim_frame_init(&fr, cfg, &sc->mesh, &sc->views.v[0], w, h, diffuse, 4, 1, false, &src, err, errlen)) {
             accel_image aimg = rtsim_image(&img);
             accel_top *top = accel_top_create(cfg, &aimg, &src, o, err, errlen);
             if (top) {

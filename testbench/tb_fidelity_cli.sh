@@ -150,8 +150,11 @@ assert d["functional.runner_up"] >= 0.85
 assert d["unreliable"] == 1 and "tie" in d["unreliable_reason"], d["unreliable_reason"]
 PY
 then pass fidelity_functional_tie_flagged; else fail fidelity_functional_tie_flagged "$(echo "$out" | grep -E '^(bounds|fidelity|unrel)' | tr '\n' ' ')"; fi
-# a clear bottleneck (hair: IST-bound by far) is not flagged for a tie
-"$bin" hairball --res 96x54 --fidelity functional --json "$tmp/clear.json" >/dev/null 2>&1
+# a clear bottleneck (hair: IST-bound by far) is not flagged for a tie (in
+# scanline order: in Morton order this frame's DRAM reaches the 60%
+# utilisation flag, a different honest flag)
+"$bin" hairball --res 96x54 --fidelity functional --set sched.pixel_order=scanline --json "$tmp/clear.json" \
+  >/dev/null 2>&1
 if [ "$(field "$tmp/clear.json" unreliable)" = 0 ]; then pass fidelity_functional_clear_bound_not_flagged
 else fail fidelity_functional_clear_bound_not_flagged "$(field "$tmp/clear.json" unreliable_reason)"; fi
 # functional where its cache order and throughput model do not hold: on

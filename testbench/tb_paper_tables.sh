@@ -72,7 +72,7 @@ expect paper_tables_bad_accuracy 2 "rtsim: --accuracy abc: expected a percentage
 # does not report each unit's power (functional, sampled); MRPS/mm2 from the
 # machine's area where a cheaper level does not report it
 acc=(scripts/paper-tables --bin "${RTSIM_BIN:?}/rtsim" --scenes interior,hairball --res 96x54 --jobs 2 --out "$tmp/acc"
-     --accuracy 40% --no-charts)
+     --accuracy 40% --no-charts --set sched.pixel_order=scanline)
 "${acc[@]}" >"$tmp/acc.log" 2>&1; rc=$?
 check paper_tables_accuracy_runs test "$rc" -eq 0
 check_accuracy() {

@@ -258,20 +258,67 @@ static bool round_trip(const rt_mesh *m, const rt_bvh_params *p, const rt_bvh_im
     return ok;
 }
 
-static void build_and_check(const char *name, const rt_mesh *m, int width, int leaf)
+static void build_with_and_check(const char *name, const rt_mesh *m, int width, int leaf, int builder)
 {
     char cname[160], msg[512] = "", err[512] = "";
-    snprintf(cname, sizeof cname, "bvh_%s_width%d_leaf%d_invariants_and_round_trip", name, width, leaf);
+    snprintf(cname, sizeof cname, "bvh_%s_width%d_leaf%d%s_invariants_and_round_trip", name, width, leaf,
+             builder == RT_BUILD_WALD ? "_wald" : "");
     tb_begin(cname);
     rt_bvh_params p;
     rt_bvh_params_default(&p);
-    p.width = width, p.leaf_size = leaf;
+    p.width = width, p.leaf_size = leaf, p.builder = builder;
     rt_bvh_image img;
     rt_bvh_stats st;
     if (TB_CHECK(rt_bvh_build(m, &p, &img, &st, err, sizeof err), "build failed: %s", err)) {
         TB_CHECK(validate(m, &p, &img, &st, msg, sizeof msg), "%s", msg);
         TB_CHECK(round_trip(m, &p, &img, msg, sizeof msg), "round trip: %s", msg);
         rt_bvh_image_free(&img);
+    }
+    tb_end();
+}
+
+static void build_and_check(const char *name, const rt_mesh *m, int width, int leaf)
+{
+    build_with_and_check(name, m, width, leaf, RT_BUILD_COLLAPSE);
+}
+
+/* The top-down splitting builder (RT_BUILD_WALD) against the collapse on
+ * one mesh: its leaves are only cut by size, so it makes no more leaves
+ * (none with fewer triangles than the SAH sweep would stop at), and so no
+ * more N-wide nodes, and every leaf holds at most leaf_size triangles. */
+static void test_wald_builder(const rt_mesh *m)
+{
+    tb_begin("bvh_wald_builder_fuller_leaves_fewer_nodes_width4");
+    rt_bvh_params pc, pw;
+    rt_bvh_params_default(&pc);
+    pw = pc;
+    pw.builder = RT_BUILD_WALD;
+    rt_bvh_image ic, iw;
+    rt_bvh_stats sc, sw;
+    char err[512];
+    if (TB_CHECK(rt_bvh_build(m, &pc, &ic, &sc, err, sizeof err), "%s", err)) {
+        if (TB_CHECK(rt_bvh_build(m, &pw, &iw, &sw, err, sizeof err), "%s", err)) {
+            TB_CHECK(sw.leaves < sc.leaves, "wald leaves %u, collapse %u", sw.leaves, sc.leaves);
+            TB_CHECK(iw.nnodes < ic.nnodes, "wald nodes %u, collapse %u", iw.nnodes, ic.nnodes);
+            uint32_t small = 0;   /* a wald leaf below leaf_size only where a split had to leave one */
+            for (int k = pw.leaf_size + 1; k <= (int)RT_LEAF_MAX; k++)
+                TB_CHECK(sw.leaf_size_hist[k] == 0, "a wald leaf of %d triangles (leaf_size %d)", k, pw.leaf_size);
+            for (int k = 1; k < pw.leaf_size; k++)
+                small += sw.leaf_size_hist[k];
+            TB_CHECK(small < sw.leaves, "every wald leaf below leaf_size (%u of %u)", small, sw.leaves);
+            TB_CHECK(iw.hash != ic.hash, "the builders gave the same image hash");
+            rt_bvh_image_free(&iw);
+        }
+        rt_bvh_image_free(&ic);
+    }
+    /* a BVH2 ignores the builder: the same image */
+    pc.width = pw.width = 2;
+    if (TB_CHECK(rt_bvh_build(m, &pc, &ic, NULL, err, sizeof err), "%s", err)) {
+        if (TB_CHECK(rt_bvh_build(m, &pw, &iw, NULL, err, sizeof err), "%s", err)) {
+            TB_CHECK(iw.hash == ic.hash && iw.size == ic.size, "BVH2 changed with the builder");
+            rt_bvh_image_free(&iw);
+        }
+        rt_bvh_image_free(&ic);
     }
     tb_end();
 }
@@ -284,6 +331,10 @@ static void test_widths_and_leaves(void)
         for (int leaf = 1; leaf <= 8; leaf++)
             if (!tb_is_sanitized() || leaf == 1 || leaf == 4 || leaf == 8)
                 build_and_check("soup", &soup, w, leaf);
+    for (int w = 3; w <= RT_WIDTH_MAX; w++)
+        for (int leaf = 1; leaf <= 8; leaf *= 2)
+            build_with_and_check("soup", &soup, w, leaf, RT_BUILD_WALD);
+    test_wald_builder(&soup);
     rt_mesh_free(&soup);
 
     /* special shapes: one triangle (single-leaf root), identical triangles

@@ -73,7 +73,7 @@ static void compare_scene(const char *label, const rt_mesh *m, const rt_view *vi
                           thresholds th_primary, thresholds th_diffuse)
 {
     char name[160], err[1024];
-    snprintf(name, sizeof name, "embree_agrees_%s_%ux%u_primary_diffuse_width2_width4", label, w, h);
+    snprintf(name, sizeof name, "embree_agrees_%s_%ux%u_primary_diffuse_width2_width4_wald4", label, w, h);
     tb_begin(name);
     rt_embree *e = rt_embree_create(m, RT_EMBREE_ROBUST, err, sizeof err);
     if (!TB_CHECK(e != NULL, "%s", err)) {
@@ -82,10 +82,15 @@ static void compare_scene(const char *label, const rt_mesh *m, const rt_view *vi
     }
     rt_ray_set prim;
     if (TB_CHECK(rt_ray_set_primary(view, w, h, &prim, err, sizeof err), "%s", err)) {
-        for (int width = 2; width <= 4; width += 2) {
+        /* BVH2, MBVH4 collapsed, MBVH4 of the top-down splitting builder */
+        for (int c = 0; c < 3; c++) {
+            const int width = c == 0 ? 2 : 4;
+            char lab[128];
+            snprintf(lab, sizeof lab, "%s%s", label, c == 2 ? "_wald" : "");
             rt_bvh_params bp;
             rt_bvh_params_default(&bp);
             bp.width = width;
+            bp.builder = c == 2 ? RT_BUILD_WALD : RT_BUILD_COLLAPSE;
             rt_bvh_image img;
             if (!TB_CHECK(rt_bvh_build(m, &bp, &img, NULL, err, sizeof err), "%s", err))
                 continue;
@@ -96,10 +101,10 @@ static void compare_scene(const char *label, const rt_mesh *m, const rt_view *vi
                 rt_embree_tally tp_prim = {0}, tp_diff = {0};
                 uint32_t of = 0;
                 tally_set(m, &img, &tp, e, &prim, &tp_prim, &of);
-                report(label, width, "primary", &tp_prim, of, th_primary);
+                report(lab, width, "primary", &tp_prim, of, th_primary);
                 of = 0;
                 tally_set(m, &img, &tp, e, &diff, &tp_diff, &of);
-                report(label, width, "diffuse", &tp_diff, of, th_diffuse);
+                report(lab, width, "diffuse", &tp_diff, of, th_diffuse);
                 rt_ray_set_free(&diff);
             }
             rt_bvh_image_free(&img);

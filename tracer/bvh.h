@@ -30,8 +30,20 @@
 extern "C" {
 #endif
 
+/* How an N-wide (N > 2) tree is built (rt_bvh_params.builder; docs/tracer-bvh.md):
+ *   RT_BUILD_COLLAPSE  the BVH2 (whose SAH also decides where leaves end),
+ *                      collapsed top-down as below;
+ *   RT_BUILD_WALD      Wald et al. 2008's top-down recursive splitting: a set
+ *                      of triangles is split by the binned SAH until it holds
+ *                      at most leaf_size triangles (the SAH chooses the
+ *                      splits, never a leaf), and the splits are grouped N
+ *                      wide by the same collapse. Fuller leaves, so fewer
+ *                      and fuller nodes. */
+typedef enum { RT_BUILD_COLLAPSE, RT_BUILD_WALD } rt_build_kind;
+
 typedef struct rt_bvh_params {
     int width;           /* N = 2..8 (RT_WIDTH_MIN..RT_WIDTH_MAX); default 4 */
+    int builder;         /* rt_build_kind for N > 2 (a BVH2 is always the SAH sweep); default collapse */
     int leaf_size;       /* max triangles per leaf, 1..RT_LEAF_MAX; default 4 */
     int bins;            /* SAH bins per axis, 4..256; default 16 */
     float cost_node;     /* SAH traversal cost of a node; default 1 */

@@ -40,6 +40,7 @@ typedef struct builder {
     build_task *stack;
     size_t stack_len, stack_cap;
     int bins, leaf_size;
+    bool leaf_by_size;   /* RT_BUILD_WALD: a leaf iff at most leaf_size triangles (no SAH termination) */
     float cost_node, cost_tri;
     box4 bin[3][BINS_MAX];
     uint32_t count[3][BINS_MAX];
@@ -127,7 +128,7 @@ static bool build_node(builder *bd, const build_task *t)
         scale[a] = ext > 0.0f ? (float)nb * (1.0f - 1e-6f) / ext : 0.0f;
         any_extent |= ext > 0.0f;
     }
-    if (n == 1 || (!any_extent && n <= (uint32_t)bd->leaf_size)) {
+    if (n == 1 || ((!any_extent || bd->leaf_by_size) && n <= (uint32_t)bd->leaf_size)) {
         make_leaf(node, t);
         return true;
     }
@@ -258,6 +259,7 @@ bool rt_bvh2_build_sah(const rt_mesh *mesh, const rt_bvh_params *params, rt_bvh2
         return false;
     memset(bd, 0, sizeof *bd);
     bd->bins = params->bins, bd->leaf_size = params->leaf_size;
+    bd->leaf_by_size = params->width > 2 && params->builder == RT_BUILD_WALD;
     bd->cost_node = params->cost_node, bd->cost_tri = params->cost_tri;
     bd->refs = rt_big_alloc((size_t)n * sizeof *bd->refs);
     bd->nodes = rt_big_alloc((2 * (size_t)n) * sizeof *bd->nodes);

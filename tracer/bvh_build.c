@@ -15,6 +15,7 @@
 void rt_bvh_params_default(rt_bvh_params *p)
 {
     p->width = 4;
+    p->builder = RT_BUILD_COLLAPSE;
     p->leaf_size = 4;
     p->bins = 16;
     p->cost_node = 1.0f;
@@ -26,6 +27,11 @@ static bool check_params(const rt_bvh_params *p, char *err, size_t errlen)
     if (p->width < RT_WIDTH_MIN || p->width > RT_WIDTH_MAX) {
         rt_scene_errorf(err, errlen, "BVH width %d out of range; allowed %d..%d", p->width, RT_WIDTH_MIN,
                         RT_WIDTH_MAX);
+        return false;
+    }
+    if (p->builder != RT_BUILD_COLLAPSE && p->builder != RT_BUILD_WALD) {
+        rt_scene_errorf(err, errlen, "BVH builder %d out of range; allowed %d (collapse) or %d (wald)", p->builder,
+                        RT_BUILD_COLLAPSE, RT_BUILD_WALD);
         return false;
     }
     if (p->leaf_size < 1 || p->leaf_size > (int)RT_LEAF_MAX) {
@@ -118,6 +124,9 @@ bool rt_bvh_build(const rt_mesh *mesh, const rt_bvh_params *params, rt_bvh_image
         rt_scene_errorf(err, errlen, "BVH: out of memory laying out the image of %u triangles", mesh->ntris);
         return false;
     }
+    /* the builder joins the hash only when it changes the tree (the hash of
+     * every collapse image stays what it was before builders were named) */
+    const int32_t wald = params->width > 2 && params->builder == RT_BUILD_WALD;
     const int32_t pv[5] = {params->width, params->leaf_size, params->bins, 0, 0};
     uint8_t pb[32];
     memcpy(pb, pv, 12);
@@ -125,7 +134,7 @@ bool rt_bvh_build(const rt_mesh *mesh, const rt_bvh_params *params, rt_bvh_image
     memcpy(pb + 16, &params->cost_tri, 4);
     const uint64_t mh = rt_mesh_hash(mesh);
     memcpy(pb + 20, &mh, 8);
-    memset(pb + 28, 0, 4);
+    memcpy(pb + 28, &wald, 4);
     uint64_t h = fnv1a_words(14695981039346656037ULL, pb, sizeof pb);
     out->hash = fnv1a_words(h, out->bytes, out->size);
     clock_gettime(CLOCK_MONOTONIC, &t1);

@@ -8,8 +8,10 @@
 static const rtcfg_param energy_params_tab[] = {
     {"enabled", RTCFG_BOOL, "true", 0, 0, 0, NULL, "",
      "compute energy, power and area; false runs a machine the SRAM table cannot cover, without those figures"},
-    {"sram_table", RTCFG_STRING, "sram_45nm.ini", 0, 0, 0, NULL, "file",
-     "SRAM figures (CACTI 6.5, 45 nm); a name without '/' is looked up in model/data/energy"},
+    {"sram_table", RTCFG_STRING, "sram_45nm_lop.ini", 0, 0, 0, NULL, "file",
+     "SRAM figures (CACTI 6.5, 45 nm): sram_45nm_lop.ini (itrs-lop cells, the closest to the paper's Table 1 "
+     "cache, stack and FIFO power, docs/paper.md), sram_45nm.ini (itrs-hp), sram_45nm_lstpcell.ini, "
+     "sram_45nm_300k.ini; a name without '/' is looked up in model/data/energy"},
     {"fpu_table", RTCFG_STRING, "fpu_45nm.ini", 0, 0, 0, NULL, "file",
      "FPU figures (Galal and Horowitz 2011); a name without '/' is looked up in model/data/energy"},
     {"fifo_ray_bytes", RTCFG_INT, "48", 1, 1024, 0, NULL, "bytes",

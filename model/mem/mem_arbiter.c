@@ -3,6 +3,7 @@
 #include "model/mem/mem_arbiter.h"
 
 #include <assert.h>
+#include <stdbool.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -15,6 +16,13 @@ static const ks_desc_item items[] = {
     {KS_DESC_PORT, "resp_in", "in fifo<mem_resp>", "", "", "responses from the shared side"},
     {KS_DESC_STAT, "grants", "requests", "", "", "requests granted"},
     {KS_DESC_STAT, "grants_#", "requests", "", "", "requests granted to input #"},
+    {KS_DESC_STAT, "bytes_#", "bytes", "", "", "bytes requested by input # (granted requests x their line size)"},
+    {KS_DESC_STAT, "first_touch_#", "requests", "", "",
+     "requests of input # for a line no earlier request of the run touched: compulsory misses of the level above"},
+    {KS_DESC_STAT, "refetches_#", "requests", "", "",
+     "requests of input # for a line requested before: capacity and conflict misses of the level above"},
+    {KS_DESC_STAT, "footprint_bytes_#", "bytes", "", "",
+     "distinct bytes input # requested (32-byte granules): the run's footprint; bytes_# minus this is refetched"},
     {KS_DESC_STAT, "conflict_cycles", "cycles", "", "", "cycles with more than one requester ready"},
     {KS_DESC_STAT, "responses", "responses", "", "", "responses routed back"},
     {KS_DESC_END, 0, 0, 0, 0, 0},
@@ -29,7 +37,48 @@ struct mem_arbiter {
     ks_fifo *req_out, *resp_in;
     uint64_t *grants_per;
     uint64_t grants, conflict_cycles, responses;
+    /* Which 32-byte granules of the address space some granted request has
+     * covered (a bit each, grown on demand): first touch against refetch,
+     * and the footprint, per input. */
+    uint64_t *touched;
+    size_t touched_words;
+    uint64_t *bytes_per, *first_touch_per, *refetch_per, *footprint_per;
+    bool touch_oom;
 };
+
+#define TOUCH_GRANULE 32u   /* bytes: one LPDDR3 BL8 burst of a 32-bit channel (docs/dram.md) */
+
+/* Marks the granules of request r (input i) as touched and counts it. */
+static void count_touch(mem_arbiter *a, int i, const mem_req *r)
+{
+    a->bytes_per[i] += r->bytes;
+    if (a->touch_oom || r->bytes == 0)
+        return;
+    const uint64_t g0 = r->addr / TOUCH_GRANULE, g1 = (r->addr + r->bytes - 1) / TOUCH_GRANULE;
+    if (g1 / 64 >= a->touched_words) {
+        size_t n = a->touched_words ? a->touched_words : 1024;
+        while (n <= g1 / 64)
+            n *= 2;
+        uint64_t *t = realloc(a->touched, n * sizeof *t);
+        if (!t) {   /* the statistics stop; the model does not depend on them */
+            a->touch_oom = true;
+            return;
+        }
+        memset(t + a->touched_words, 0, (n - a->touched_words) * sizeof *t);
+        a->touched = t, a->touched_words = n;
+    }
+    uint64_t fresh = 0;
+    for (uint64_t g = g0; g <= g1; g++) {
+        const uint64_t bit = 1ull << (g % 64);
+        if (!(a->touched[g / 64] & bit))
+            a->touched[g / 64] |= bit, fresh++;
+    }
+    a->footprint_per[i] += fresh * TOUCH_GRANULE;
+    if (fresh)
+        a->first_touch_per[i]++;
+    else
+        a->refetch_per[i]++;
+}
 
 static int step(void *user, uint64_t cycle)
 {
@@ -54,6 +103,7 @@ static int step(void *user, uint64_t cycle)
             a->last = pick;
             a->grants++;
             a->grants_per[pick]++;
+            count_touch(a, pick, &r);
             a->conflict_cycles += ready > 1;
             progress++;
         }
@@ -97,7 +147,12 @@ mem_arbiter *mem_arbiter_create(ks_sim *sim, ks_clock *clk, const char *name, in
     a->req_in = calloc((size_t)n, sizeof *a->req_in);
     a->resp_out = calloc((size_t)n, sizeof *a->resp_out);
     a->grants_per = calloc((size_t)n, sizeof *a->grants_per);
-    if (!a->name || !a->req_in || !a->resp_out || !a->grants_per) {
+    a->bytes_per = calloc((size_t)n, sizeof *a->bytes_per);
+    a->first_touch_per = calloc((size_t)n, sizeof *a->first_touch_per);
+    a->refetch_per = calloc((size_t)n, sizeof *a->refetch_per);
+    a->footprint_per = calloc((size_t)n, sizeof *a->footprint_per);
+    if (!a->name || !a->req_in || !a->resp_out || !a->grants_per || !a->bytes_per || !a->first_touch_per ||
+        !a->refetch_per || !a->footprint_per) {
         mem_arbiter_destroy(a);
         goto oom;
     }
@@ -138,6 +193,11 @@ void mem_arbiter_destroy(mem_arbiter *a)
     free(a->req_in);
     free(a->resp_out);
     free(a->grants_per);
+    free(a->bytes_per);
+    free(a->first_touch_per);
+    free(a->refetch_per);
+    free(a->footprint_per);
+    free(a->touched);
     free(a);
 }
 
@@ -147,10 +207,17 @@ int mem_arbiter_register(mem_arbiter *a, ks_stats *reg, const char *prefix)
     if (ks_stat_decl_counter(reg, d, prefix, "grants", &a->grants))
         return -1;
     for (int i = 0; i < a->n; i++) {
-        char name[32];
-        snprintf(name, sizeof name, "grants_%d", i);
-        if (ks_stat_decl_counter(reg, d, prefix, name, &a->grants_per[i]))
-            return -1;
+        const struct {
+            const char *stem;
+            uint64_t *v;
+        } per[] = {{"grants", a->grants_per}, {"bytes", a->bytes_per}, {"first_touch", a->first_touch_per},
+                   {"refetches", a->refetch_per}, {"footprint_bytes", a->footprint_per}};
+        for (size_t k = 0; k < sizeof per / sizeof per[0]; k++) {
+            char name[48];
+            snprintf(name, sizeof name, "%s_%d", per[k].stem, i);
+            if (ks_stat_decl_counter(reg, d, prefix, name, &per[k].v[i]))
+                return -1;
+        }
     }
     if (ks_stat_decl_counter(reg, d, prefix, "conflict_cycles", &a->conflict_cycles))
         return -1;

@@ -10,7 +10,13 @@
  *  - Each cycle at most one response is routed from resp_in to resp_out[src
  *    mod N]; a full output stalls the response stream (in order, like a bus).
  * Statistics: PREFIX.grants, PREFIX.grants_<i>, PREFIX.conflict_cycles
- * (cycles with more than one requester ready), PREFIX.responses. */
+ * (cycles with more than one requester ready), PREFIX.responses; per input
+ * the bytes requested and, from a bitmap of the 32-byte granules every
+ * granted request covered, first-touch requests (compulsory misses of the
+ * requester), refetches (capacity and conflict misses) and the footprint
+ * (distinct bytes): PREFIX.bytes_<i>, first_touch_<i>, refetches_<i>,
+ * footprint_bytes_<i>. At the memory arbiter, input 0 is the node L2 and
+ * input 1 the primitive cache, so these split DRAM traffic by kind. */
 #ifndef RTSIM_MODEL_MEM_ARBITER_H
 #define RTSIM_MODEL_MEM_ARBITER_H
 

@@ -15,8 +15,18 @@ static const rtcfg_param sched_params_tab[] = {
     {"watchdog_cycles", RTCFG_INT, "2000000", 0, 1e12, 0, NULL, "cycles",
      "stop with a report when no work is done (no node visit, triangle test or completed ray) for this long "
      "plus the machine's longest wait (docs/accel.md); 0 = off"},
+    /* The paper leaves the ray generator's pixel order open; tiles decide
+     * primary rays' DRAM traffic (docs/paper.md "Pixel order"). The frame
+     * (frame/frame.h) reads these two keys; the scheduler admits primary
+     * rays in the order it is handed them. */
+    {"pixel_order", RTCFG_ENUM, "morton", 0, 0, 0, "scanline|tiles|morton", "",
+     "order of the frame's primary rays: scanline, square tiles of sched.tile pixels (tiles and their pixels "
+     "in scanline order), or Morton (Z) order; bounces follow their path (ours: morton, the least DRAM traffic "
+     "on Crytek Sponza, docs/paper.md)"},
+    {"tile", RTCFG_INT, "32", 1, 65535, 0, NULL, "pixels",
+     "side of a square tile with sched.pixel_order = tiles (ours: 32, docs/paper.md)"},
 };
-const rtcfg_schema sched_schema = {"sched", "ray scheduler", sched_params_tab, 3, NULL};
+const rtcfg_schema sched_schema = {"sched", "ray scheduler", sched_params_tab, 5, NULL};
 
 static const ks_desc_item sched_items[] = {
     {KS_DESC_PORT, "to_trv[i]", "out fifo<trv_msg>", "", "", "new rays to TRV i"},

@@ -60,7 +60,7 @@ static int run_machine(rtcfg *cfg, char *err, size_t errlen)
     accel_source src;
     if (!rt_bvh_build(&mesh, &bp, &img, NULL, err, errlen))
         goto out;
-    if (!rtsim_frame_init(&frame, &mesh, &views.v[0], 4, 4, true, 2, 1, false, &src, err, errlen))
+    if (!rtsim_frame_init(&frame, cfg, &mesh, &views.v[0], 4, 4, true, 2, 1, false, &src, err, errlen))
         goto out;
     accel_image aimg = rtsim_image(&img);
     accel_top_opts o = {0};

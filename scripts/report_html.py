@@ -63,10 +63,17 @@ def tick_label(v):
     return ("%.6f" % v).rstrip("0").rstrip(".")
 
 
-def line_chart(cid, title, xlabel, ylabel, series, bands=(), hlines=(), width=760, height=270, ymin=0.0, ymax=None):
+def line_chart(cid, title, xlabel, ylabel, series, bands=(), hlines=(), width=760, height=270, ymin=0.0, ymax=None,
+               xticks=None, markers=False, logx=False):
     """series: [(name, xs, ys)] (None in ys: a gap); bands: [(x0, x1, label)]
-    shaded; hlines: [(y, label)] dashed reference lines."""
-    ml, mr, mt, mb = 64, 150, 30, 44
+    shaded; hlines: [(y, label)] dashed reference lines; xticks: [(x, label)]
+    instead of numeric ticks; markers: a dot on every point; logx: log2 x axis."""
+    if logx:
+        series = [(n, [math.log2(x) for x in xs], ys) for n, xs, ys in series]
+        xticks = [(math.log2(x), lab) for x, lab in xticks] if xticks else None
+    ml, mt, mb = 64, 30, 44
+    mr = min(max(150, 40 + 6 * max([len(str(n)) for n, _, _ in series] + [0])), width // 2)
+    height = max(height, mt + mb + 16 * len(series) + 10)
     pw, ph = width - ml - mr, height - mt - mb
     xs_all = [x for _, xs, _ in series for x in xs]
     ys_all = [y for _, _, ys in series for y in ys if y is not None] + [y for y, _ in hlines]
@@ -79,7 +86,12 @@ def line_chart(cid, title, xlabel, ylabel, series, bands=(), hlines=(), width=76
         y1 = y0 + 1.0
     yt = nice_ticks(y0, y1)
     y0, y1 = min(yt[0], y0), max(yt[-1], y1)
-    xt = [t for t in nice_ticks(x0, x1, 6) if x0 <= t <= x1]
+    if xticks:
+        x0, x1 = min([x0] + [t for t, _ in xticks]), max([x1] + [t for t, _ in xticks])
+        pad = (x1 - x0) * 0.05 or 0.5
+        x0, x1 = x0 - pad, x1 + pad
+    xt = [t for t in nice_ticks(x0, x1, 6) if x0 <= t <= x1] if not xticks else [t for t, _ in xticks]
+    xtl = dict(xticks) if xticks else {}
     X = lambda x: ml + (x - x0) / (x1 - x0) * pw
     Y = lambda y: mt + ph - (y - y0) / (y1 - y0) * ph
     o = ['<svg class="chart" id="%s" xmlns="http://www.w3.org/2000/svg" width="%d" height="%d" viewBox="0 0 %d %d" '
@@ -93,7 +105,7 @@ def line_chart(cid, title, xlabel, ylabel, series, bands=(), hlines=(), width=76
         o.append('<text class="yl" x="%d" y="%.1f">%s</text>' % (ml - 6, Y(t) + 4, tick_label(t)))
     for t in xt:
         o.append('<line class="tick" x1="%.1f" x2="%.1f" y1="%d" y2="%d"/>' % (X(t), X(t), mt + ph, mt + ph + 4))
-        o.append('<text class="xl" x="%.1f" y="%d">%s</text>' % (X(t), mt + ph + 16, tick_label(t)))
+        o.append('<text class="xl" x="%.1f" y="%d">%s</text>' % (X(t), mt + ph + 16, esc(xtl.get(t, tick_label(t)))))
     o.append('<rect class="frame" x="%d" y="%d" width="%d" height="%d"/>' % (ml, mt, pw, ph))
     for y, lab in hlines:
         o.append('<line class="ref" x1="%d" x2="%d" y1="%.1f" y2="%.1f"/><text class="refl" x="%d" y="%.1f">%s</text>'
@@ -108,6 +120,11 @@ def line_chart(cid, title, xlabel, ylabel, series, bands=(), hlines=(), width=76
             parts.append("%s%.1f,%.1f" % ("L" if pen else "M", X(x), Y(y)))
             pen = True
         o.append('<path class="series" d="%s" stroke="%s"><title>%s</title></path>' % (" ".join(parts) or "M0,0", col, esc(name)))
+        if markers:
+            for x, y in zip(xs, ys):
+                if y is not None:
+                    o.append('<circle cx="%.1f" cy="%.1f" r="3" fill="%s"><title>%s: %s</title></circle>'
+                             % (X(x), Y(y), col, esc(name), fmt(y)))
         ly = mt + 12 + 16 * i
         o.append('<line x1="%d" x2="%d" y1="%d" y2="%d" stroke="%s" stroke-width="3"/>'
                  '<text class="lg" x="%d" y="%d">%s</text>' % (ml + pw + 10, ml + pw + 26, ly - 4, ly - 4, col,

@@ -63,6 +63,17 @@ ids = attr.get("ids", "").split()
 assert all(w in ids for w in want), "missing charts: %s" % [w for w in want if w not in ids]
 assert 'data-count' not in re.search(r'<div id="errors"[^>]*>', dom).group(0), "script errors"
 PY
+  "$root/scripts/sweep" --set-grid trv.count=2,4 --machines bvh2,mbvh4 --res 16x9 --rtsim "$bin" --jobs 2 \
+    --out "$tmp/sweep" >/dev/null 2>&1
+  render "$tmp/sweep/report.html" >"$tmp/sweep.dom"
+  check report_sweep_page_renders python3 - "$tmp/sweep.dom" <<'PY'
+import re, sys
+dom = open(sys.argv[1]).read()
+tag = re.search(r'<div id="selfcheck"[^>]*>', dom).group(0)
+ids = dict(re.findall(r'data-([a-z]+)="([^"]*)"', tag))["ids"].split()
+assert 'data-ok="1"' in tag and "chart-pareto" in ids and "chart-mrps-vs-trv.count" in ids, tag
+assert "data-count" not in re.search(r'<div id="errors"[^>]*>', dom).group(0)
+PY
   check report_windowed_renders python3 -c "
 import re, sys; dom = open('$tmp/win.dom').read()
 m = re.search(r'<div id=\"selfcheck\"[^>]*data-ok=\"1\"', dom)

@@ -120,7 +120,7 @@ static int parse_options(int argc, char **argv, options *o)
                  "cycles (throughput, utilization, hit rates, DRAM, power per\n"
                  "unit; docs/results.md)"},
         {.name = "series-interval", .kind = CLI_UINT, .to.u = &o->series_interval, .arg = "N", .min = 1,
-         .max = UINT64_MAX / 4, .def = "10000", .given = &o->series_interval_given,
+         .max = 1000000000000ull, .def = "10000", .given = &o->series_interval_given,
          .help = "cycles per row of --series ({range})"},
         {.name = "autosize-fifos", .kind = CLI_STRING, .to.str = &o->autosize, .arg = "OUT.ini",
          .help = "run, then write the machine with every FIFO shrunk to the\n"

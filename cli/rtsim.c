@@ -509,7 +509,7 @@ static int series_dir_join(job *j, const char *dir, bool write)
     if (out)
         accel_series_write_header(out, (uint32_t)rtcfg_int(j->cfg, "trv.count"));
     for (int i = 0; i < n; i++) {
-        char path[4200];
+        char path[4096 + 2 + sizeof names[i]->d_name];
         snprintf(path, sizeof path, "%s/%s", dir, names[i]->d_name);
         FILE *in = out ? fopen(path, "r") : NULL;
         if (out && !in) {

@@ -84,6 +84,12 @@ for lvl in fixed-mem sampled windowed; do
     --json "$tmp/$lvl-b.json" --series "$tmp/$lvl.csv" --series-interval 2000 >/dev/null 2>&1
   check "series_${lvl}_results_unchanged" same_results "$tmp/$lvl-a.json" "$tmp/$lvl-b.json"
 done
+# the same rows whatever the number of worker processes (pieces joined in piece order)
+for lvl in sampled windowed; do
+  TMPDIR="$tmp/scratch" "$bin" interior --res 96x54 --rays diffuse --fidelity "$lvl" --jobs 1 --quiet \
+    --series "$tmp/$lvl-j1.csv" --series-interval 2000 >/dev/null 2>&1
+  check "series_${lvl}_same_rows_any_jobs" cmp -s "$tmp/$lvl.csv" "$tmp/$lvl-j1.csv"
+done
 check series_fixed_mem_one_frame python3 -c "
 import csv, sys
 rows = list(csv.DictReader(open('$tmp/fixed-mem.csv')))

@@ -109,6 +109,7 @@ bench: deps
 	$(MAKE) all $(BENCH_BINS)
 	@mkdir -p $(BUILD)/bench
 	@set -e; for s in $(sort $(wildcard bench/*.sh)); do bash $$s $(BUILD); done
+	@scripts/bench-history append $(BUILD)/bench
 
 clean:
 	rm -rf build

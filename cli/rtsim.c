@@ -8,6 +8,7 @@
  * "partial"). Every output path is planned before the run through the output
  * layer (kernel/out_file.h: temporary name and rename for files, in place for
  * stdout "-", devices and pipes; two outputs naming one file are refused). */
+#include <dirent.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -37,6 +38,9 @@
 
 typedef struct options {
     const char *scene, *view, *views, *machine, *res, *json, *vcd, *vcd_filter, *heatmap, *autosize, *help_module;
+    const char *series;        /* --series FILE, NULL: none */
+    uint64_t series_interval;  /* --series-interval N, cycles */
+    bool series_interval_given;
     cli_list sets;
     int rays;                  /* index in ray_kinds */
     bool diffuse, occlusion;   /* --rays diffuse, occlusion (AO rays of the primary hits, docs/accel.md) */
@@ -111,6 +115,13 @@ static int parse_options(int argc, char **argv, options *o)
         {.name = "vcd-filter", .kind = CLI_STRING, .to.str = &o->vcd_filter, .arg = "GLOB"},
         {.name = "heatmap", .kind = CLI_STRING, .to.str = &o->heatmap, .arg = "FILE",
          .help = "simulated cycles per pixel (.png or .exr)"},
+        {.name = "series", .kind = CLI_STRING, .to.str = &o->series, .arg = "FILE",
+         .help = "interval statistics as CSV: a row every --series-interval\n"
+                 "cycles (throughput, utilization, hit rates, DRAM, power per\n"
+                 "unit; docs/results.md)"},
+        {.name = "series-interval", .kind = CLI_UINT, .to.u = &o->series_interval, .arg = "N", .min = 1,
+         .max = 1000000000000ull, .def = "10000", .given = &o->series_interval_given,
+         .help = "cycles per row of --series ({range})"},
         {.name = "autosize-fifos", .kind = CLI_STRING, .to.str = &o->autosize, .arg = "OUT.ini",
          .help = "run, then write the machine with every FIFO shrunk to the\n"
                  "first power of two above its maximum occupancy (paper sec. 3)"},
@@ -168,6 +179,12 @@ static int parse_options(int argc, char **argv, options *o)
     if (!o->vcd && (o->vcd_window_given || o->vcd_filter))
         return cli_usage_error(&tool, "%s: only with --vcd FILE (no waveform is written without it)",
                                o->vcd_window_given ? "--vcd-window" : "--vcd-filter");
+    if (!o->series && o->series_interval_given)
+        return cli_usage_error(&tool, "--series-interval: only with --series FILE (no series is written without it)");
+    if (o->series && (o->accuracy > 0 || o->level == FID_FUNCTIONAL))
+        return cli_usage_error(&tool, "--series needs a level that simulates cycles: full, fixed-mem, sampled or "
+                                      "windowed (%s asked)",
+                               o->accuracy > 0 ? "--accuracy" : "functional");
     const char *cheaper = o->accuracy > 0 ? "--accuracy" : o->level != FID_FULL ? fid_level_name(o->level) : NULL;
     if (cheaper && o->occlusion)
         return cli_usage_error(&tool, "--rays occlusion needs --fidelity full (%s asked)", cheaper);
@@ -388,13 +405,14 @@ typedef struct job {
     cli_run_info *run;         /* provenance of the JSON (cli/run_info.h) */
     rtcfg *cfg;
     uint32_t w, h;
-    cli_output outs[4];        /* --json, --vcd, --heatmap, --autosize-fifos */
+    cli_output outs[5];        /* --json, --vcd, --heatmap, --autosize-fifos, --series */
     rt_scene sc;
     const rt_view *view;
     rt_bvh_image img;
     rtsim_frame frame;
     accel_source src;
     accel_top *top;
+    accel_series *series;      /* --series with the full model */
     char err[8192];
 } job;
 
@@ -422,7 +440,8 @@ static bool plan_outputs(job *j)
     j->outs[1] = (cli_output){"--vcd", o->vcd, NULL};
     j->outs[2] = (cli_output){"--heatmap", o->heatmap, NULL};
     j->outs[3] = (cli_output){"--autosize-fifos", o->autosize, NULL};
-    return cli_plan_outputs(j->outs, 4, j->err, sizeof j->err);
+    j->outs[4] = (cli_output){"--series", o->series, NULL};
+    return cli_plan_outputs(j->outs, 5, j->err, sizeof j->err);
 }
 
 /* The scene and its view, the BVH for the machine's width and the rays of
@@ -461,6 +480,56 @@ static void fill_run(job *j)
     run->has_seed = o->diffuse, run->seed = o->seed;
 }
 
+/* --series with a cheaper level: a scratch folder for the rows of each
+ * piece's run (fid_job.series_dir); false with j->err. */
+static bool series_dir_make(job *j, char *dir, size_t cap)
+{
+    const char *tmp = getenv("TMPDIR");
+    snprintf(dir, cap, "%s/rtsim-series-XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    if (!mkdtemp(dir)) {
+        snprintf(j->err, sizeof j->err, "--series: cannot make a scratch folder %s", dir);
+        return false;
+    }
+    return true;
+}
+
+static int series_file_filter(const struct dirent *e) { return strstr(e->d_name, ".csv") != NULL; }
+
+/* Joins the pieces' rows (in name order: piece order) under one header
+ * into the --series output, when write; then removes the folder. 0, or -1
+ * with j->err. */
+static int series_dir_join(job *j, const char *dir, bool write)
+{
+    struct dirent **names = NULL;
+    int n = scandir(dir, &names, series_file_filter, alphasort), rc = 0;
+    FILE *out = write && n >= 0 ? ks_out_begin(j->outs[4].out, j->err, sizeof j->err) : NULL;
+    if (write && !out)
+        rc = -1;
+    if (out)
+        accel_series_write_header(out, (uint32_t)rtcfg_int(j->cfg, "trv.count"));
+    for (int i = 0; i < n; i++) {
+        char path[4096 + 2 + sizeof names[i]->d_name];
+        snprintf(path, sizeof path, "%s/%s", dir, names[i]->d_name);
+        FILE *in = out ? fopen(path, "r") : NULL;
+        if (out && !in) {
+            snprintf(j->err, sizeof j->err, "--series: cannot read %s", path);
+            rc = -1;
+        }
+        char buf[65536];
+        for (size_t k; in && (k = fread(buf, 1, sizeof buf, in)) > 0;)
+            fwrite(buf, 1, k, out);
+        if (in)
+            fclose(in);
+        remove(path);
+        free(names[i]);
+    }
+    free(names);
+    rmdir(dir);
+    if (out && rc == 0 && ks_out_commit(j->outs[4].out, j->err, sizeof j->err))
+        rc = -1;
+    return rc;
+}
+
 /* A cheaper fidelity level or --accuracy (fidelity.h): runs, prints the
  * summary and writes the JSON. Returns the exit status. */
 static int run_fidelity(job *j)
@@ -480,7 +549,16 @@ static int run_fidelity(job *j)
     }
     ps.last = ps.t0;
     fid_job job = {j->cfg, &j->sc.mesh, j->view, &j->img, j->w, j->h, o->diffuse, (uint32_t)o->bounces, o->seed,
-                   o->sample_rate, progress_cb, &ps, (int)o->jobs, (uint32_t)o->windows};
+                   o->sample_rate, progress_cb, &ps, (int)o->jobs, (uint32_t)o->windows, NULL, 0};
+    char series_dir[4096] = "";
+    if (o->series) {
+        if (!series_dir_make(j, series_dir, sizeof series_dir)) {
+            fprintf(stderr, "rtsim: %s\n", j->err);
+            return 2;
+        }
+        job.series_dir = series_dir;
+        job.series_interval = o->series_interval;
+    }
     fid_outcome fo;
     fill_run(j);
     double t0 = wall(), c0 = cpu(), w0 = ks_pool_children_cpu_s();
@@ -492,6 +570,10 @@ static int run_fidelity(job *j)
         fprintf(stderr, "\r%70s\r", "");
     double host_s = wall() - t0, cpu_s = cpu() - c0, worker_s = ks_pool_children_cpu_s() - w0;
     uint64_t workers = ks_pool_workers_forked() - forked0;
+    if (o->series && series_dir_join(j, series_dir, rc == 0 && !ks_interrupted())) {
+        fprintf(stderr, "rtsim: --series %s: %s\n", o->series, j->err);
+        rc = rc ? rc : 2;
+    }
     if (rc && ks_interrupted()) {
         /* Ctrl-C while worker processes ran: they are stopped; nothing is written */
         fprintf(stderr, "rtsim: %s; no output written\n", j->err);
@@ -604,6 +686,13 @@ static int run_full(job *j)
     to.vcd_end_cycle = o->vcd_window.b;
     to.vcd_filter = o->vcd_filter;
     to.exhaustive = o->exhaustive;
+    FILE *series_f = NULL;
+    if (o->series && (!(series_f = ks_out_begin(j->outs[4].out, j->err, sizeof j->err)) ||
+                      !(to.series = accel_series_create(series_f, o->series_interval, true)))) {
+        fprintf(stderr, "rtsim: --series %s: %s\n", o->series, series_f ? "out of memory" : j->err);
+        return 2;
+    }
+    j->series = to.series;
     j->top = accel_top_create(j->cfg, &aimg, &j->src, &to, j->err, sizeof j->err);
     if (!j->top) {
         fprintf(stderr, "rtsim: %s\n", j->err);
@@ -656,11 +745,17 @@ static int run_full(job *j)
         rc = rc ? rc : 2;
     }
     rc = write_images(j, rc, sig != 0, run_rc == 0);
+    /* the series, like the heatmap, only from a run that was not cut short */
+    if (o->series && !sig && ks_out_commit(j->outs[4].out, j->err, sizeof j->err)) {
+        fprintf(stderr, "rtsim: --series %s: %s\n", o->series, j->err);
+        rc = rc ? rc : 2;
+    }
     if (sig) {
         fflush(stdout);
-        fprintf(stderr, "rtsim: %s; %s%s%s%s\n", reason, o->vcd ? "the VCD ends there, " : "",
+        fprintf(stderr, "rtsim: %s; %s%s%s%s%s\n", reason, o->vcd ? "the VCD ends there, " : "",
                 o->json ? "the JSON statistics are marked partial" : "statistics above are partial",
-                o->autosize ? ", no --autosize-fifos file written" : "", o->heatmap ? ", no heatmap written" : "");
+                o->autosize ? ", no --autosize-fifos file written" : "", o->heatmap ? ", no heatmap written" : "",
+                o->series ? ", no series written" : "");
         rc = ks_interrupt_exit_status();
     }
     return rc;
@@ -682,6 +777,7 @@ static int simulate(const options *o, cli_run_info *run)
     }
     ks_out_discard_all();   /* outputs not committed (failure, interruption): no temporaries left */
     accel_top_destroy(j.top);
+    accel_series_destroy(j.series);
     rtsim_frame_free(&j.frame);
     rt_bvh_image_free(&j.img);
     rt_scene_free(&j.sc);

@@ -192,21 +192,34 @@ static void get_fig(accel_top *t, model_fig *f)
 }
 
 /* Runs the cycle model with cfg on the pixels map[0..n) (map NULL: the
- * whole frame). *keep: the top is handed back (else destroyed). */
-static int run_model(const fid_job *job, const rtcfg *cfg, const uint32_t *map, uint32_t n, model_fig *fig,
-                     accel_top **keep, char *err, size_t errlen)
+ * whole frame). *keep: the top is handed back (else destroyed). tag: the
+ * run's figures make the result, so with --series it writes its rows
+ * (fid_subset_open_series; NULL: it does not). */
+static int run_model_series(const fid_job *job, const rtcfg *cfg, const uint32_t *map, uint32_t n, model_fig *fig,
+                            accel_top **keep, const char *tag, uint32_t piece, char *err, size_t errlen)
 {
     fid_subset sub;
-    if (fid_subset_open(&sub, job, cfg, map, n, err, errlen))
+    if (fid_subset_open_series(&sub, job, cfg, map, n, tag, piece, tag, err, errlen))
         return 2;
     int rc = accel_top_run(sub.top, map ? NULL : job->progress, job->progress_user, err, errlen) ? 1 : 0;
     get_fig(sub.top, fig);
     if (keep && rc == 0) {
+        accel_top_detach_series(sub.top);
         *keep = sub.top;
         sub.top = NULL;
     }
-    fid_subset_close(&sub);
+    if (fid_subset_close(&sub) && rc == 0) {
+        snprintf(err, errlen, "--series: writing the rows of a run failed");
+        rc = 2;
+    }
     return rc;
+}
+
+
+static int run_model(const fid_job *job, const rtcfg *cfg, const uint32_t *map, uint32_t n, model_fig *fig,
+                     accel_top **keep, char *err, size_t errlen)
+{
+    return run_model_series(job, cfg, map, n, fig, keep, NULL, 0, err, errlen);
 }
 
 /* ---- own statistics registry (functional, sampled) ---------------------- */
@@ -406,7 +419,7 @@ static int run_fixed_mem(const fid_job *job, fid_outcome *o, char *err, size_t e
     if (rtcfg_enum(cfg, "memory.model") != MEMSYS_LPDDR3) {
         model_fig f;
         snprintf(r->detail, sizeof r->detail, "memory.model is already fixed: the full model of this machine");
-        return run_model(job, cfg, NULL, 0, &f, &o->top, err, errlen);
+        return run_model_series(job, cfg, NULL, 0, &f, &o->top, "frame", 0, err, errlen);
     }
     mem_keys saved;
     save_keys(cfg, &saved);
@@ -446,7 +459,7 @@ static int run_fixed_mem(const fid_job *job, fid_outcome *o, char *err, size_t e
                 L = L1;
         }
         if (rc == 0 && !(rc = set_fixed(cfg, L, pj, err, errlen)))
-            rc = run_model(job, cfg, NULL, 0, &fin, &o->top, err, errlen);
+            rc = run_model_series(job, cfg, NULL, 0, &fin, &o->top, "frame", 0, err, errlen);
         snprintf(r->detail, sizeof r->detail,
                  "full-fidelity pilot on %u of %u pixels (row bands): mean memory latency %.1f cycles, %.2f GB/s "
                  "(%.0f%% of peak), %.0f%% row hits; fixed memory calibrated to latency %.0f cycles, %.0f pJ/byte",
@@ -555,7 +568,7 @@ static int run_piece(void *user, int index, void *result, char *err, size_t errl
     r->pixels = n;
     int rc = 0;
     if (n > 0) {
-        rc = run_model(job, job->cfg, px, px ? n : 0, &r->m, NULL, err, errlen);
+        rc = run_model_series(job, job->cfg, px, px ? n : 0, &r->m, NULL, "group", g, err, errlen);
         if (rc == 0 && fid_functional_run(job, px, n, &r->f, err, errlen))
             rc = 2;
     }

@@ -92,6 +92,10 @@ typedef struct fid_job {
                                      at once (kernel/fork_pool.h); <= 1: one after the other
                                      in this process. The figures are the same either way. */
     uint32_t windows;             /* windowed: windows, 0 = default */
+    const char *series_dir;       /* interval statistics (model/series.h): each cycle-model run
+                                     whose figures make the result writes its rows to a file
+                                     of this folder (fid_subset_open_series); NULL: none */
+    uint64_t series_interval;     /* cycles per row */
 } fid_job;
 
 typedef struct fid_outcome {

@@ -21,10 +21,29 @@ static void sub_complete(void *u, uint32_t uid, const accel_ray_in *in, const ac
 int fid_subset_open(fid_subset *s, const fid_job *job, const rtcfg *cfg, const uint32_t *map, uint32_t n, char *err,
                     size_t errlen)
 {
+    return fid_subset_open_series(s, job, cfg, map, n, NULL, 0, NULL, err, errlen);
+}
+
+int fid_subset_open_series(fid_subset *s, const fid_job *job, const rtcfg *cfg, const uint32_t *map, uint32_t n,
+                           const char *tag, uint32_t piece, const char *phase, char *err, size_t errlen)
+{
     memset(s, 0, sizeof *s);
+    accel_top_opts o = {0};
+    if (job->series_dir && tag) {
+        char path[4096];
+        snprintf(path, sizeof path, "%s/%s-%06u.csv", job->series_dir, tag, piece);
+        if (!(s->series_f = fopen(path, "w")) ||
+            !(s->series = accel_series_create(s->series_f, job->series_interval, false))) {
+            snprintf(err, errlen, "--series: cannot write %s", path);
+            fid_subset_close(s);
+            return 2;
+        }
+        accel_series_label(s->series, piece, phase);
+        o.series = s->series;
+    }
     if (!rtsim_frame_init(&s->frame, cfg, job->mesh, job->view, job->width, job->height, job->diffuse, job->bounces,
                           job->seed, false, &s->src, err, errlen))
-        return 2;
+        return fid_subset_close(s), 2;
     s->map = map;
     s->src.user = s;
     s->src.primary = sub_primary;
@@ -33,19 +52,25 @@ int fid_subset_open(fid_subset *s, const fid_job *job, const rtcfg *cfg, const u
     if (map)
         s->src.primary_count = n;
     accel_image aimg = rtsim_image(job->img);
-    accel_top_opts o = {0};
     s->top = accel_top_create(cfg, &aimg, &s->src, &o, err, errlen);
     if (!s->top) {
-        rtsim_frame_free(&s->frame);
+        fid_subset_close(s);
         return 2;
     }
     return 0;
 }
 
-void fid_subset_close(fid_subset *s)
+int fid_subset_close(fid_subset *s)
 {
+    int rc = 0;
     if (s->top)
         accel_top_destroy(s->top);
     s->top = NULL;
+    accel_series_destroy(s->series);
+    s->series = NULL;
+    if (s->series_f && (ferror(s->series_f) | fclose(s->series_f)))
+        rc = -1;
+    s->series_f = NULL;
     rtsim_frame_free(&s->frame);
+    return rc;
 }

@@ -20,10 +20,19 @@ typedef struct fid_subset {
     accel_source src;
     const uint32_t *map;
     accel_top *top;
+    FILE *series_f;               /* the run's series rows, NULL: none */
+    accel_series *series;
 } fid_subset;
 
 int fid_subset_open(fid_subset *s, const fid_job *job, const rtcfg *cfg, const uint32_t *map, uint32_t n, char *err,
                     size_t errlen);
-void fid_subset_close(fid_subset *s);
+/* The same with job->series_dir set: the run writes its series rows,
+ * labelled (piece, phase), to series_dir/<tag>-<piece, 6 digits>.csv
+ * (rows only: the caller of fid_run joins the files in name order under one
+ * header). Without job->series_dir, fid_subset_open. */
+int fid_subset_open_series(fid_subset *s, const fid_job *job, const rtcfg *cfg, const uint32_t *map, uint32_t n,
+                           const char *tag, uint32_t piece, const char *phase, char *err, size_t errlen);
+/* 0, or -1 when the series rows could not be written. */
+int fid_subset_close(fid_subset *s);
 
 #endif

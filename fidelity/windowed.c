@@ -222,7 +222,7 @@ static int run_window(const win_plan *pl, uint32_t i, win_piece *r, char *err, s
     for (uint32_t k = 0; k < n; k++)
         map[k] = (uint32_t)(first + k);
     fid_subset sub;
-    int rc = fid_subset_open(&sub, job, job->cfg, map, n, err, errlen);
+    int rc = fid_subset_open_series(&sub, job, job->cfg, map, n, "window", i, "warm-up", err, errlen);
     if (rc) {
         free(map);
         return rc;
@@ -234,6 +234,8 @@ static int run_window(const win_plan *pl, uint32_t i, win_piece *r, char *err, s
         r->a = zero;   /* the frame's own start: nothing to warm */
     else if (accel_top_run_until(sub.top, warm, &r->a, err, errlen))
         rc = 1;
+    if (sub.series)
+        accel_series_label(sub.series, i, "window");   /* the rows of the window proper */
     if (rc == 0 && accel_top_run_until(sub.top, warm + pl->len, &r->b, err, errlen))
         rc = 1;
     if (rc == 0) {
@@ -262,7 +264,10 @@ static int run_window(const win_plan *pl, uint32_t i, win_piece *r, char *err, s
         }
         path_tracer_free(&pt);
     }
-    fid_subset_close(&sub);
+    if (fid_subset_close(&sub) && rc == 0) {
+        snprintf(err, errlen, "--series: writing the rows of window %u failed", i);
+        rc = 2;
+    }
     free(map);
     return rc;
 }

@@ -34,8 +34,20 @@ typedef struct stat_entry {
 struct ks_stats {
     stat_entry **e;
     unsigned n, cap;
+    /* name -> index + 1 (0: empty), open addressing, a power of two at
+     * least twice n: lookups by name (ks_stats_value, e.g. the energy
+     * model's reads during a run) in constant time */
+    unsigned *slot, nslot;
     char error[256];
 };
+
+static uint64_t name_hash(const char *s)
+{
+    uint64_t h = 14695981039346656037ull;   /* FNV-1a 64 */
+    for (; *s; s++)
+        h = (h ^ (unsigned char)*s) * 1099511628211ull;
+    return h;
+}
 
 static void *xrealloc(void *p, size_t n)
 {
@@ -90,6 +102,7 @@ void ks_stats_destroy(ks_stats *reg)
         free(e);
     }
     free(reg->e);
+    free(reg->slot);
     free(reg);
 }
 
@@ -98,10 +111,23 @@ unsigned ks_stats_count(const ks_stats *reg) { return reg->n; }
 
 static stat_entry *find(const ks_stats *reg, const char *name)
 {
-    for (unsigned i = 0; i < reg->n; i++)
-        if (!strcmp(reg->e[i]->name, name))
-            return reg->e[i];
-    return NULL;
+    if (!reg->nslot)
+        return NULL;
+    for (unsigned k = (unsigned)name_hash(name) & (reg->nslot - 1);; k = (k + 1) & (reg->nslot - 1)) {
+        unsigned i = reg->slot[k];
+        if (!i)
+            return NULL;
+        if (!strcmp(reg->e[i - 1]->name, name))
+            return reg->e[i - 1];
+    }
+}
+
+static void index_entry(ks_stats *reg, unsigned i)
+{
+    unsigned k = (unsigned)name_hash(reg->e[i]->name) & (reg->nslot - 1);
+    while (reg->slot[k])
+        k = (k + 1) & (reg->nslot - 1);
+    reg->slot[k] = i + 1;
 }
 
 static int name_ok(ks_stats *reg, const char *name)
@@ -138,6 +164,16 @@ static stat_entry *add(ks_stats *reg, int kind, const char *name, const char *un
         reg->e = xrealloc(reg->e, reg->cap * sizeof *reg->e);
     }
     reg->e[reg->n++] = e;
+    if (2 * reg->n > reg->nslot) {   /* grow the index and rebuild it */
+        reg->nslot = reg->nslot ? reg->nslot * 2 : 64;
+        free(reg->slot);
+        reg->slot = xrealloc(NULL, reg->nslot * sizeof *reg->slot);
+        memset(reg->slot, 0, reg->nslot * sizeof *reg->slot);
+        for (unsigned i = 0; i < reg->n; i++)
+            index_entry(reg, i);
+    } else {
+        index_entry(reg, reg->n - 1);
+    }
     return e;
 }
 

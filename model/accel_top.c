@@ -12,6 +12,7 @@
 #include "kernel/fifo.h"
 #include "kernel/interrupt.h"
 #include "kernel/vcd.h"
+#include "model/dram/dram_ctrl.h"
 #include "model/dram/dram_port.h"
 #include "model/energy/energy.h"
 #include "model/dram/dram_timing.h"
@@ -62,6 +63,8 @@ struct accel_top {
     double stat_mrps, stat_dram_gbs, stat_in_flight;
     uint64_t stat_traffic[6];   /* dram_node_bytes .. dram_refetch_misses (traffic_stats) */
     double stat_dram_pj_per_byte;
+    accel_series *series;      /* interval statistics, NULL: none (model/series.h) */
+    uint64_t *series_busy;     /* the TRVs' busy cycles at a sample */
 };
 
 /* The statistic named by the format, or 0 when no statistic has that name
@@ -556,6 +559,14 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     if (rtcfg_bool(cfg, "energy.enabled") &&
         (!(t->energy = build_energy_model(t, cfg, err, errlen)) || energy_register_stats(t->energy, t->stats, err, errlen)))
         goto fail;
+    if (opts->series) {
+        if (!(t->series_busy = calloc(ntrv, sizeof *t->series_busy))) {
+            snprintf(err, errlen, "out of memory for the series");
+            goto fail;
+        }
+        t->series = opts->series;
+        accel_series_start(t->series, ntrv, t->p.clock_mhz, t->energy);
+    }
     if (t->vcd && ks_vcd_var_count(t->vcd) == 0) {
         /* a VCD without variables is of no use, and looked like a valid one */
         snprintf(err, errlen, "--vcd-filter %s: matches none of the traced variables (globs on full dotted names, "
@@ -593,7 +604,75 @@ void accel_top_destroy(accel_top *t)
         free(t->ring[r]);
     }
     free(t->names);
+    free(t->series_busy);
     free(t);
+}
+
+/* Ends a row of the series at `cycle` (model/series.h): the run's
+ * cumulative counts there, read without changing any state a result
+ * depends on. */
+static void series_sample(accel_top *t, uint64_t cycle)
+{
+    accel_series_point p = {0};
+    const sched_unit *s = t->sched;
+    p.cycle = cycle;
+    p.admitted = s->admitted;
+    p.completed = s->completed;
+    p.in_flight = s->in_flight;
+    p.in_flight_area = s->in_flight_area + (cycle > s->last_area_cycle ? s->in_flight * (cycle - s->last_area_cycle) : 0);
+    for (uint32_t i = 0; i < t->p.trv_count; i++) {
+        t->series_busy[i] = t->trv[i]->busy_cycles;
+        const cache_stats *cs = cache_core_stats_live(memsys_node_l1(t->mem, (int)i));
+        p.cache_acc[0] += cs->accesses;
+        p.cache_hit[0] += cs->hits;
+    }
+    p.trv_busy = t->series_busy;
+    p.ist_busy = t->ist->busy_cycles;
+    const cache_core *c[2] = {memsys_node_l2(t->mem), memsys_prim(t->mem)};
+    for (int k = 0; k < 2; k++) {
+        const cache_stats *cs = cache_core_stats_live(c[k]);
+        p.cache_acc[k + 1] = cs->accesses;
+        p.cache_hit[k + 1] = cs->hits;
+    }
+    p.dram_bytes = memsys_memory_bytes(t->mem);
+    dram_port *port = memsys_dram_port(t->mem);
+    if (port) {
+        dram_port_sync(port);
+        const dram_ctrl *dc = dram_port_ctrl(port);
+        p.dram = true;
+        p.dram_cycles = (uint64_t)dram_clock(dc);
+        for (int ch = 0; ch < memsys_dram_spec(t->mem)->channels; ch++) {
+            dram_chan_stats cs;
+            dram_chan_stats_get(dc, ch, &cs);
+            p.row_hits += cs.row_hits;
+            p.row_accesses += cs.row_hits + cs.row_misses + cs.row_conflicts;
+            p.queue_sum += cs.queue_occupancy_sum;
+        }
+    }
+    energy_activity act;
+    if (t->energy)
+        gather_activity(t, (double)cycle / (t->p.clock_mhz * 1e6), (double)p.dram_bytes, &act);
+    accel_series_sample(t->series, &p, t->energy ? &act : NULL);
+}
+
+/* ks_sim_run to the end of cycle `end`; with a series, in steps that end
+ * at its rows' boundaries, each sampled (a frame that has every ray done
+ * leaves its last row to finish_stats). Stopping and going on is the same
+ * simulation as one call (kernel/sim.h). */
+static ks_run_status run_to(accel_top *t, uint64_t end)
+{
+    ks_time period = ks_clock_period(t->clk);
+    if (t->series) {
+        for (uint64_t next; (next = accel_series_next(t->series)) < end;) {
+            ks_run_status st = ks_sim_run(t->sim, (ks_time)next * period);
+            if (st != KS_RUN_TIME_LIMIT)
+                return st;
+            if (sched_finished(t->sched) || ks_interrupted())
+                break;
+            series_sample(t, next);
+        }
+    }
+    return ks_sim_run(t->sim, (ks_time)end * period);
 }
 
 /* stop_cycle: where a failed run stopped (0 when it completed); its
@@ -617,6 +696,8 @@ static void finish_stats(accel_top *t, uint64_t stop_cycle)
     t->stat_dram_gbs = t->seconds > 0 ? (double)t->stat_dram_bytes / t->seconds / 1e9 : 0.0;
     t->stat_in_flight = sched_mean_in_flight(t->sched, t->cycles);
     traffic_stats(t);
+    if (t->series)
+        series_sample(t, t->cycles);   /* the last row ends with the frame */
     if (t->energy)
         compute_energy(t);
     const double dram_mj = stat_named(t->stats, "energy.dram_mj");
@@ -680,7 +761,7 @@ static int run_slices(accel_top *t, accel_progress_fn progress, void *user, uint
     *stopped = false;
     for (;;) {
         slice_end += stop_primaries ? MARK_SLICE_CYCLES : SLICE_CYCLES;
-        ks_run_status st = ks_sim_run(t->sim, (ks_time)slice_end * period);
+        ks_run_status st = run_to(t, slice_end);
         now_cycle = (uint64_t)(ks_sim_now(t->sim) / period);
         if (progress)
             progress(user, now_cycle, t->sched->completed, t->sched->admitted);
@@ -787,6 +868,8 @@ int accel_top_run_until(accel_top *t, uint64_t primaries, accel_point *p, char *
         return 1;
     p->finished = !stopped;
     p->cycle = now_cycle;
+    if (t->series)
+        series_sample(t, now_cycle);   /* a row ends at every mark */
     p->primaries = t->sched->next_primary;
     p->completed = t->sched->completed;
     p->latency_sum = t->sched->latency_sum;
@@ -818,6 +901,7 @@ double accel_top_mrps(const accel_top *t) { return t->mrps; }
 ks_stats *accel_top_stats(accel_top *t) { return t->stats; }
 const accel_params *accel_top_params(const accel_top *t) { return &t->p; }
 uint64_t accel_top_guard_cycle(const accel_top *t) { return t->guard_cycle; }
+void accel_top_detach_series(accel_top *t) { t->series = NULL; }
 
 /* 100 x part / whole, 0 when whole is 0. */
 static double percent(double part, double whole) { return whole ? 100.0 * part / whole : 0.0; }

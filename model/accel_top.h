@@ -34,6 +34,7 @@
 #include "model/ray/accel_ray.h"
 #include "config/config.h"
 #include "model/ray/scheduler.h"
+#include "model/series.h"
 
 typedef struct accel_top accel_top;
 
@@ -47,6 +48,8 @@ typedef struct accel_top_opts {
                                       the margin + the machine's longest wait (docs/accel.md) */
     bool exhaustive;               /* step every unit every cycle on every clock (no idle
                                       skipping): the reference mode results must equal */
+    accel_series *series;          /* interval statistics (model/series.h), NULL: none; the
+                                      caller keeps it and destroys it after the top */
 } accel_top_opts;
 
 /* Called between run slices (every ~64K cycles) for progress bars. */
@@ -90,6 +93,8 @@ int accel_top_run_until(accel_top *t, uint64_t primaries, accel_point *p, char *
  * runs that are not reported themselves; valid until the next call. */
 const energy_result *accel_top_interval_energy(accel_top *t, const accel_point *a, const accel_point *b);
 const accel_params *accel_top_params(const accel_top *t);
+/* Samples no more into opts->series (which may then be destroyed). */
+void accel_top_detach_series(accel_top *t);
 uint64_t accel_top_guard_cycle(const accel_top *t); /* where the livelock guard engaged, 0: never */
 /* Writes the human-readable summary: cycles, MRPS, per-unit utilization,
  * cache hit rates, DRAM traffic and bandwidth, rays in flight. */

@@ -140,12 +140,98 @@ def main():
 
     # A failed run's figures (MRPS 0...) are no measurement: not charted.
     draw_charts(d, header, grid, [(p, j) for p, j in results if not j.get("run_failed")], present)
+    write_report(d, header, grid, results, present, len(points))
     if missing:
         print(f"sweep: {len(missing)} of {len(points)} points have no result yet: " + " ".join(missing[:5])
               + (" ..." if len(missing) > 5 else "") + " (run the sweep again to do them)",
               file=sys.stderr)
         return 1
     return 0
+
+
+def write_report(d, header, grid, results, present, npoints):
+    """DIR/report.html (scripts/report_html.py): the figures of merit against
+    each swept key, one line per combination of what else varies, the
+    Pareto front of MRPS/mm2 (higher is better) against mJ/frame (lower is
+    better) over all points, and every point's figures in a table."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import report_html as R
+    ok = [(p, j) for p, j in results if not j.get("run_failed")]
+    dims = ["scene", "rays", "machine"] + grid
+    col = {name: header.index(name) for name in dims}
+    varying = [k for k in dims if len({p[col[k]] for p, _ in ok}) > 1]
+    body = []
+    commits = sorted({"%s%s" % (j.get("run", {}).get("commit"), " (dirty)" if j.get("run", {}).get("dirty") else "")
+                      for _, j in results})
+    levels = sorted({str(j.get("fidelity", "full")) for _, j in results})
+    summary = [["points", "%d of %d done%s" % (len(results), npoints, (", %d failed (not charted)" % (len(results) - len(ok)))
+                                              if len(ok) < len(results) else "")]]
+    for k in dims:
+        vals = []
+        for p, _ in results:
+            if p[col[k]] not in vals:
+                vals.append(p[col[k]])
+        summary.append([R.esc(k) + (" (swept)" if k in grid else ""), R.esc(", ".join(vals))])
+    fixed = sorted({p[5] for p, _ in results if p[5] != "-"})
+    summary.append(["fixed --set", R.esc("; ".join(fixed) or "none")])
+    summary.append(["fidelity", R.esc(", ".join(levels))])
+    summary.append(["built from commit", R.esc(", ".join(commits))])
+    body.append('<h2 id="sweep">Sweep</h2>' + R.table(summary))
+    # Pareto front
+    fr_pts = [(p, j) for p, j in ok if j.get("mrps_per_mm2") is not None and j.get("energy_mj") is not None]
+    label = lambda p: " ".join([p[col["scene"]], p[col["rays"]], p[col["machine"]]] + ["%s=%s" % (k, p[col[k]]) for k in grid])
+    front = []
+    if fr_pts:
+        xy = [(j["mrps_per_mm2"], j["energy_mj"]) for _, j in fr_pts]
+        front = R.pareto_front(xy)
+        body.append('<h2 id="pareto">Pareto front: MRPS/mm² against mJ/frame</h2><p class="note">Red: the points no other '
+                    'point beats on both (more MRPS/mm², fewer mJ/frame). Points of different scenes and ray types are '
+                    'not comparable; each is drawn all the same.</p>')
+        body.append(R.scatter_chart("chart-pareto", "MRPS/mm² (higher is better) against mJ/frame (lower is better)",
+                                    "MRPS/mm²", "mJ/frame", [(x, y, label(p)) for (p, _), (x, y) in zip(fr_pts, xy)], front))
+        body.append(R.table([[R.esc(label(fr_pts[i][0])), R.fmt(xy[i][0]), R.fmt(xy[i][1]), R.fmt(fr_pts[i][1].get("mrps"))]
+                             for i in sorted(front, key=lambda i: -xy[i][0])], ["point on the front", "MRPS/mm²", "mJ/frame", "MRPS"]))
+    # figures against each swept key
+    for key in grid:
+        values = []
+        for p, _ in ok:
+            if p[col[key]] not in values:
+                values.append(p[col[key]])
+        nums = [as_number(v) for v in values]
+        numeric = all(x is not None for x in nums)
+        logx = numeric and min(nums) > 0 and max(nums) / min(nums) >= 8
+        others = [k for k in varying if k != key]
+        body.append('<h2 id="vs-%s">Against %s</h2>' % (R.esc(safe(key)), R.esc(key)))
+        for fig in present:
+            series = {}
+            for p, j in ok:
+                y = figure(j, fig)
+                if y is None:
+                    continue
+                lab = " ".join(f"{k}={p[col[k]]}" if k in grid else p[col[k]] for k in others) or "all"
+                x = as_number(p[col[key]]) if numeric else values.index(p[col[key]])
+                series.setdefault(lab, []).append((x, y))
+            if not series:
+                continue
+            lines = []
+            for lab, pts in series.items():
+                pts.sort()
+                lines.append((lab, [x for x, _ in pts], [y for _, y in pts]))
+            ticks = [(x if numeric else i, v) for i, (v, x) in enumerate(zip(values, nums))]
+            body.append(R.line_chart("chart-%s-vs-%s" % (fig[0], safe(key)), "%s against %s" % (fig[3], key), key, fig[3],
+                                     lines, xticks=ticks, markers=True, logx=logx))
+    # every point
+    heads = ["point"] + dims + [fig[0] for fig in present]
+    trs = []
+    for p, j in results:
+        on = any(fr_pts[i][0] is p for i in front)
+        trs.append([R.esc(p[0]) + (' <b class="flag">front</b>' if on else "") + (' <span class="flag">failed</span>' if j.get("run_failed") else "")]
+                   + [R.esc(p[col[k]]) for k in dims] + ['<span class="num">%s</span>' % R.fmt(figure(j, fig)) for fig in present])
+    body.append('<h2 id="points">Points</h2>' + R.table(trs, heads, cls="points"))
+    path = os.path.join(d, "report.html")
+    R.write_atomic(path, R.page("rtsim sweep: %s" % os.path.basename(os.path.abspath(d)), "%d points · results.csv beside "
+                                "this page" % len(results), "\n".join(body)))
+    print(f"sweep: report page {path}")
 
 
 def draw_charts(d, header, grid, results, present):

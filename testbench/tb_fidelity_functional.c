@@ -64,7 +64,7 @@ static void check_attribution(const rt_scene *sc, const char *preset, bool diffu
             px[n++] = p;
     fid_func_attr *attr = calloc(n, sizeof *attr);
     if (TB_CHECK(attr != NULL, "out of memory")) {
-        fid_job job = {cfg, &sc->mesh, &sc->views.v[0], &img, w, h, diffuse, 2, 1, 0, NULL, NULL, 1, 0};
+        fid_job job = {cfg, &sc->mesh, &sc->views.v[0], &img, w, h, diffuse, 2, 1, 0, NULL, NULL, 1, 0, NULL, 0};
         fid_func plain, withattr;
         bool ran = TB_CHECK(fid_functional_run(&job, px, n, &plain, err, sizeof err) == 0, "run: %s", err) &&
                    TB_CHECK(fid_functional_run_attributed(&job, px, n, &withattr, attr, err, sizeof err) == 0,
@@ -133,7 +133,7 @@ static void check_phases(const rt_scene *sc)
     uint32_t a = 0, b = 0;
     static uint32_t halves[N], alternate[N];
     if (TB_CHECK(cfg != NULL, "machine: %s", err)) {
-        fid_job job = {cfg, &sc->mesh, &sc->views.v[0], &img, W, H, false, 0, 1, 0, NULL, NULL, 1, 0};
+        fid_job job = {cfg, &sc->mesh, &sc->views.v[0], &img, W, H, false, 0, 1, 0, NULL, NULL, 1, 0, NULL, 0};
         fid_func f_halves, f_alt;
         if (TB_CHECK(extreme_pixels(&job, W * H, &a, &b, err, sizeof err), "no pixels of different loads: %s", err)) {
             for (uint32_t i = 0; i < N; i++)

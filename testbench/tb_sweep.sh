@@ -63,6 +63,24 @@ check sweep_figures_named grep -q "figures of merit: mrps, energy_mj, mrps_per_m
 check sweep_chart_png test "$(head -c 4 "$tmp/full/charts/mrps-vs-node_l1.size.png" | tail -c 3)" = PNG
 check sweep_chart_svg grep -q '<svg' "$tmp/full/charts/dram_mb-vs-node_l1.size.svg"
 check sweep_chart_energy test -s "$tmp/full/charts/energy_mj-vs-node_l1.size.png"
+# the report page: a chart per figure and swept key, the Pareto front of
+# MRPS/mm2 (higher) against mJ/frame (lower) marked exactly on the points no
+# other point beats (tb_report renders the page in Chromium)
+if python3 - "$tmp/full" <<'PY'
+import csv, re, sys
+d = sys.argv[1]
+page = open(d + "/report.html").read()
+for f in ("mrps", "energy_mj", "mrps_per_mm2", "dram_mb", "area_mm2", "power_mw"):
+    assert 'id="chart-%s-vs-node_l1.size"' % f in page, f
+assert 'id="chart-pareto"' in page
+rows = list(csv.DictReader(open(d + "/results.csv")))
+pts = [(float(r["mrps_per_mm2"]), float(r["energy_mj"]), r["point"]) for r in rows]
+front = {n for x, y, n in pts if not any(x2 >= x and y2 <= y and (x2 > x or y2 < y) for x2, y2, _ in pts)}
+marked = set(re.findall(r"<td>([^<]*) <b class=\"flag\">front</b>", page))
+assert front and marked == front, (front, marked)
+assert page.count('class="pf"') == len(front)
+PY
+then pass sweep_report_page_pareto; else fail sweep_report_page_pareto "report.html lacks a chart or marks the wrong front"; fi
 
 # --- a complete sweep run again does nothing and changes nothing
 stamp() { stat -c '%n %i %y' "$1"/results/*.json; }

@@ -11,12 +11,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static char tmpdir[512];
+static char tmpdir[TB_PATH_MAX];
 
 static const char *tmp_file(const char *name, const char *text)
 {
-    static char path[700];
-    snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+    static char path[TB_PATH_MAX];
+    tb_pathf(path, sizeof path, "%s/%s", tmpdir, name);
     FILE *f = fopen(path, "w");
     fputs(text, f);
     fclose(f);
@@ -68,14 +68,14 @@ static void test_file_errors(void)
     char err[512];
     seen s;
     tb_begin("ini_file_cannot_open");
-    char path[700];
-    snprintf(path, sizeof path, "%s/none.ini", tmpdir);
+    char path[TB_PATH_MAX];
+    tb_pathf(path, sizeof path, "%s/none.ini", tmpdir);
     TB_EQ_INT(ini_file_read(path, &any, record, &s, err, sizeof err), -1);
     TB_HAS(err, "none.ini: cannot open: No such file or directory");
     tb_end();
 
     tb_begin("ini_file_folder");
-    snprintf(path, sizeof path, "%s/adir", tmpdir);
+    tb_pathf(path, sizeof path, "%s/adir", tmpdir);
     mkdir(path, 0700);
     TB_EQ_INT(ini_file_read(path, &any, record, &s, err, sizeof err), -1);
     TB_HAS(err, "adir: is a folder, not a test file (.ini) file");
@@ -149,7 +149,7 @@ static void test_helpers(void)
 int main(void)
 {
     const char *base = getenv("RTSIM_TMP");
-    snprintf(tmpdir, sizeof tmpdir, "%s/tb_ini_XXXXXX", base && *base ? base : "/tmp");
+    tb_pathf(tmpdir, sizeof tmpdir, "%s/tb_ini_XXXXXX", base && *base ? base : "/tmp");
     if (!mkdtemp(tmpdir)) {
         printf("FAIL setup: mkdtemp %s\n", tmpdir);
         return 1;
@@ -157,8 +157,8 @@ int main(void)
     test_reads_in_order();
     test_file_errors();
     test_helpers();
-    char cmd[600];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+    char cmd[TB_PATH_MAX + 16];
+    tb_pathf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
     if (system(cmd) != 0)
         printf("INFO could not remove %s\n", tmpdir);
     return tb_finish();

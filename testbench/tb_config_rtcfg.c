@@ -10,14 +10,14 @@
 
 #include <unistd.h>
 
-static char tmpdir[512];
+static char tmpdir[TB_PATH_MAX];
 
 static const char *tmp_file(const char *name, const char *text)
 {
-    static char path[4][700];
+    static char path[4][TB_PATH_MAX];
     static int k;
     char *p = path[k++ % 4];
-    snprintf(p, 700, "%s/%s", tmpdir, name);
+    tb_pathf(p, TB_PATH_MAX, "%s/%s", tmpdir, name);
     FILE *f = fopen(p, "w");
     fputs(text, f);
     fclose(f);
@@ -230,7 +230,7 @@ static void test_set_errors(void)
 
 static void test_dram_keys(void)
 {
-    char err[512] = "", path[700];
+    char err[512] = "", path[TB_PATH_MAX];
     tb_begin("dram_keys_set_checked_written");
     rtcfg *a = mem_cfg();
     TB_EQ_INT(rtcfg_load(a, "mbvh4", err, sizeof err), 0);
@@ -249,7 +249,7 @@ static void test_dram_keys(void)
     /* read_latency = nCL + nDQSCK + nBL in the file: follows the override */
     TB_EQ_INT(spec.read_latency, 14 + 2 + 4);
     /* written with every other key, and loaded back */
-    snprintf(path, sizeof path, "%s/dram.ini", tmpdir);
+    tb_pathf(path, sizeof path, "%s/dram.ini", tmpdir);
     TB_EQ_INT(rtcfg_write_ini(a, path, err, sizeof err), 0);
     rtcfg *b = mem_cfg();
     TB_EQ_INT(rtcfg_load(b, path, err, sizeof err), 0);
@@ -302,8 +302,8 @@ static void test_dram_keys(void)
 static void test_write_roundtrip(void)
 {
     tb_begin("write_ini_roundtrip");
-    char err[512] = "", path[700];
-    snprintf(path, sizeof path, "%s/sized.ini", tmpdir);
+    char err[512] = "", path[TB_PATH_MAX];
+    tb_pathf(path, sizeof path, "%s/sized.ini", tmpdir);
     rtcfg *a = mem_cfg();
     TB_EQ_INT(rtcfg_load(a, "bvh2", err, sizeof err), 0);
     TB_EQ_INT(rtcfg_set(a, "fifo.mem_l2_req=4", err, sizeof err), 0);
@@ -312,7 +312,7 @@ static void test_write_roundtrip(void)
     TB_EQ_INT(rtcfg_set(a, "memory.dram_config=/some path/x.ini", err, sizeof err), 0);
     TB_EQ_INT(rtcfg_set(a, "memory.model=fixed", err, sizeof err), 0);
     TB_EQ_INT(rtcfg_write_ini(a, path, err, sizeof err), 0);
-    char tmp[720];
+    char tmp[TB_PATH_MAX + 16];
     snprintf(tmp, sizeof tmp, "%s.tmp", path);
     TB_CHECK(access(tmp, F_OK) != 0, "temp file left behind");
     rtcfg *b = mem_cfg();
@@ -357,7 +357,7 @@ static void test_write_roundtrip(void)
 int main(void)
 {
     const char *base = getenv("RTSIM_TMP");
-    snprintf(tmpdir, sizeof tmpdir, "%s/tb_config_XXXXXX", base && *base ? base : "/tmp");
+    tb_pathf(tmpdir, sizeof tmpdir, "%s/tb_config_XXXXXX", base && *base ? base : "/tmp");
     if (!mkdtemp(tmpdir)) {
         printf("FAIL setup: mkdtemp %s\n", tmpdir);
         return 1;
@@ -368,8 +368,8 @@ int main(void)
     test_set_errors();
     test_write_roundtrip();
     test_dram_keys();
-    char cmd[600];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+    char cmd[TB_PATH_MAX + 16];
+    tb_pathf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
     if (system(cmd) != 0)
         fprintf(stderr, "could not remove %s\n", tmpdir);
     return tb_finish();

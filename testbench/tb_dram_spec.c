@@ -34,9 +34,9 @@ static void expect_error(const char *name, const char *set, const char *want1, c
 /* Writes text to a temporary file; returns its path (static buffer). */
 static const char *temp_file(const char *text)
 {
-    static char path[256];
+    static char path[TB_PATH_MAX];
     const char *dir = getenv("RTSIM_TMP") ? getenv("RTSIM_TMP") : "/tmp";
-    snprintf(path, sizeof path, "%s/tb_dram_spec_XXXXXX", dir);
+    tb_pathf(path, sizeof path, "%s/tb_dram_spec_XXXXXX", dir);
     int fd = mkstemp(path);
     if (fd < 0)
         return NULL;

@@ -410,11 +410,11 @@ static void spit(const char *path, const unsigned char *b, size_t len)
     fclose(f);
 }
 
-static char g_tmp[512];
+static char g_tmp[TB_PATH_MAX];
 static const char *tmp_path(const char *name)
 {
     const char *d = getenv("RTSIM_TMP");
-    snprintf(g_tmp, sizeof g_tmp, "%s/%s", d && *d ? d : "/tmp", name);
+    tb_pathf(g_tmp, sizeof g_tmp, "%s/%s", d && *d ? d : "/tmp", name);
     return g_tmp;
 }
 
@@ -434,8 +434,8 @@ static void test_round_trip(void)
             /* enough rays for several blocks */
             uint32_t n = tb_is_sanitized() ? 1500 : 6000;
             trace_all(&img, 64, cull, n, 11 + (uint64_t)wi, &t);
-            char path[512], err[800];
-            snprintf(path, sizeof path, "%s", tmp_path("syn_rt.tlog"));
+            char path[TB_PATH_MAX], err[800];
+            tb_pathf(path, sizeof path, "%s", tmp_path("syn_rt.tlog"));
             rt_tlog_totals tot;
             g_block_bytes = 16384;   /* several blocks */
             bool ok = write_log(path, &img, 64, cull, &t, err, sizeof err, &tot);
@@ -518,9 +518,9 @@ static void test_corruption(void)
     trace_all(&img, 64, true, 40, 8, &t);
     char err[800];
     rt_tlog_totals tot;
-    char path[512], bad[512];
-    snprintf(path, sizeof path, "%s", tmp_path("syn_small.tlog"));
-    snprintf(bad, sizeof bad, "%s", tmp_path("syn_bad.tlog"));
+    char path[TB_PATH_MAX], bad[TB_PATH_MAX];
+    tb_pathf(path, sizeof path, "%s", tmp_path("syn_small.tlog"));
+    tb_pathf(bad, sizeof bad, "%s", tmp_path("syn_bad.tlog"));
     bool ok = write_log(path, &img, 64, true, &t, err, sizeof err, &tot);
     size_t len = 0;
     unsigned char *orig = ok ? (unsigned char *)tb_read_file(path, &len) : NULL;

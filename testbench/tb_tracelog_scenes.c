@@ -32,8 +32,8 @@ static const char *tmp_dir(void)
 static double round_trip(const char *label, const rt_scene *sc, const rt_bvh_image *img, const rt_trv_params *p,
                          const rt_ray_set *rays, uint32_t ray_kind)
 {
-    char path[600], err[800];
-    snprintf(path, sizeof path, "%s/scene_%s.tlog", tmp_dir(), label);
+    char path[TB_PATH_MAX], err[800];
+    tb_pathf(path, sizeof path, "%s/scene_%s.tlog", tmp_dir(), label);
     rt_tlog_info info;
     memset(&info, 0, sizeof info);
     info.mesh_hash = rt_mesh_hash(&sc->mesh);

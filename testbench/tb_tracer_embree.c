@@ -146,7 +146,7 @@ static void test_real(void)
     };
     const char *root = tbt_scenes_dir();
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
-        char name[160], path[1024], err[1024];
+        char name[160], path[TB_PATH_MAX], err[1024];
         snprintf(name, sizeof name, "embree_agrees_real_%s", scenes[i].folder);
         if (!root) {
             tb_skip(name, "../shared/scenes absent (set RTSIM_SCENES)");
@@ -156,7 +156,7 @@ static void test_real(void)
             tb_skip(name, "large scene: release build only");
             continue;
         }
-        snprintf(path, sizeof path, "%s/%s/%s", root, scenes[i].folder, scenes[i].file);
+        tb_pathf(path, sizeof path, "%s/%s/%s", root, scenes[i].folder, scenes[i].file);
         if (access(path, R_OK) != 0) {
             tb_skip(name, "scene file absent");
             continue;

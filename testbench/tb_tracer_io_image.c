@@ -11,12 +11,12 @@
 #include "testbench/tb.h"
 #include "tracer/image.h"
 
-static char tmp[512];
+static char tmp[TB_PATH_MAX];
 
 static const char *at(const char *rel)
 {
-    static char path[1024];
-    snprintf(path, sizeof path, "%s/%s", tmp, rel);
+    static char path[TB_PATH_MAX];
+    tb_pathf(path, sizeof path, "%s/%s", tmp, rel);
     return path;
 }
 
@@ -171,7 +171,7 @@ static void test_errors(void)
 int main(void)
 {
     const char *t = getenv("RTSIM_TMP");
-    snprintf(tmp, sizeof tmp, "%s/tb_tracer_io_image", t && *t ? t : "/tmp");
+    tb_pathf(tmp, sizeof tmp, "%s/tb_tracer_io_image", t && *t ? t : "/tmp");
     mkdir(tmp, 0777);
     test_round_trip();
     test_heatmap();

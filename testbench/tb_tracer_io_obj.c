@@ -151,9 +151,9 @@ static void test_gzip(void)
 {
     tb_begin("obj_gzip_equals_plain");
     const char *text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
-    char plain[512], gz[512], err[256] = "";
-    snprintf(plain, sizeof plain, "%s/tb_obj_plain.obj", tmpdir());
-    snprintf(gz, sizeof gz, "%s/tb_obj_gz.obj.gz", tmpdir());
+    char plain[TB_PATH_MAX], gz[TB_PATH_MAX], err[256] = "";
+    tb_pathf(plain, sizeof plain, "%s/tb_obj_plain.obj", tmpdir());
+    tb_pathf(gz, sizeof gz, "%s/tb_obj_gz.obj.gz", tmpdir());
     rt_mesh a, b;
     memset(&a, 0, sizeof a);
     memset(&b, 0, sizeof b);

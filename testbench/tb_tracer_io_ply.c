@@ -155,8 +155,8 @@ static void test_crlf_header_and_gzip(void)
                        "property list uchar int vertex_index\r\nend_header\r\n"
                        "0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n";
     const char *tmp = getenv("RTSIM_TMP");
-    char path[512], err[512] = "";
-    snprintf(path, sizeof path, "%s/tb_ply.ply.gz", tmp && *tmp ? tmp : "/tmp");
+    char path[TB_PATH_MAX], err[512] = "";
+    tb_pathf(path, sizeof path, "%s/tb_ply.ply.gz", tmp && *tmp ? tmp : "/tmp");
     gzFile g = gzopen(path, "wb");
     bool wrote = g && gzwrite(g, text, (unsigned)strlen(text)) == (int)strlen(text);
     if (g)

@@ -20,8 +20,8 @@
  * after optional spaces); -1 when absent. */
 static long long source_count(const char *dir, const char *key)
 {
-    char path[1024], line[512];
-    snprintf(path, sizeof path, "%s/SOURCE.txt", dir);
+    char path[TB_PATH_MAX], line[512];
+    tb_pathf(path, sizeof path, "%s/SOURCE.txt", dir);
     FILE *f = fopen(path, "r");
     if (!f)
         return -1;
@@ -54,9 +54,9 @@ static void one(const char *root, const char *folder, const char *file, bool big
         tb_skip(name, "large scene: release build only");
         return;
     }
-    char dir[1024], path[1200];
-    snprintf(dir, sizeof dir, "%s/%s", root, folder);
-    snprintf(path, sizeof path, "%s/%s", dir, file);
+    char dir[TB_PATH_MAX], path[TB_PATH_MAX];
+    tb_pathf(dir, sizeof dir, "%s/%s", root, folder);
+    tb_pathf(path, sizeof path, "%s/%s", dir, file);
     if (access(path, R_OK) != 0) {
         tb_skip(name, "scene file absent");
         return;
@@ -90,7 +90,7 @@ static void one(const char *root, const char *folder, const char *file, bool big
  * worktree one level deeper: then this case skips). */
 static void scene_file(const char *file, const char *folder)
 {
-    char name[128], path[256];
+    char name[128], path[TB_PATH_MAX];
     snprintf(name, sizeof name, "real_scene_file_%s_loads", file);
     snprintf(path, sizeof path, "../shared/scenes/%s", folder);
     if (access(path, R_OK) != 0) {

@@ -126,6 +126,9 @@ void rtcfg_describe_range(const rtcfg_param *p, char *buf, size_t len)
     }
 }
 
+/* 0, -1 not an integer, -2 an integer too large for 64 bits (strtoull's
+ * ERANGE, or the K/M/G multiple): told apart so the message does not call a
+ * well-formed number "not an integer". */
 static int parse_int(const char *s, int64_t *out)
 {
     while (isspace((unsigned char)*s))
@@ -144,8 +147,9 @@ static int parse_int(const char *s, int64_t *out)
     errno = 0;
     char *end;
     unsigned long long v = strtoull(q, &end, base);
-    if (errno || end == q)
+    if (end == q)
         return -1;
+    const bool too_large = errno == ERANGE;
     unsigned long long mul = 1;
     if (*end == 'K' || *end == 'k')
         mul = 1ull << 10;
@@ -164,8 +168,8 @@ static int parse_int(const char *s, int64_t *out)
         end++;
     if (*end)
         return -1;
-    if (v > (unsigned long long)INT64_MAX / mul)
-        return -1;
+    if (too_large || v > (unsigned long long)INT64_MAX / mul)
+        return -2;
     v *= mul;
     *out = neg ? -(int64_t)v : (int64_t)v;
     return 0;
@@ -212,7 +216,11 @@ static int assign(slot *s, const char *text, const char *where, int level, char 
     int ev = 0;
     switch (p->type) {
     case RTCFG_INT:
-        if (parse_int(text, &iv))
+        int pi = parse_int(text, &iv);
+        if (pi == -2)
+            return rtcfg_errorf(err, errlen, "%s: %s = '%s' does not fit in 64 bits (allowed %s)", where, s->key,
+                                text, range);
+        if (pi)
             return rtcfg_errorf(err, errlen, "%s: %s = '%s' is not an integer (allowed %s)", where, s->key, text, range);
         if ((double)iv < p->min || (double)iv > p->max)
             return rtcfg_errorf(err, errlen, "%s: %s = %s is out of range (allowed %s)", where, s->key, text, range);

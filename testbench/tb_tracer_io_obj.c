@@ -248,7 +248,7 @@ static void test_errors(void)
         char e2[512] = "";
         const char *t = getenv("RTSIM_TMP");
         bool ok = rt_obj_load(t && *t ? t : "/tmp", &d, e2, sizeof e2);
-        TB_CHECK(!ok && strstr(e2, t && *t ? t : "/tmp") && (strstr(e2, "directory") || strstr(e2, "read error")),
+        TB_CHECK(!ok && strstr(e2, t && *t ? t : "/tmp") && strstr(e2, "is a folder, not a mesh file"),
                  "message: %s", e2);
         if (ok)
             rt_mesh_free(&d);

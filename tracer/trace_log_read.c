@@ -6,11 +6,13 @@
  * agree with the arithmetic, so a log applied to another image, or damaged
  * in a way the CRCs miss, is rejected, never misread. All reads are bounds-
  * checked: garbage yields a message, never a crash or a huge allocation. */
+#include <errno.h>
 #include <inttypes.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <zlib.h>
 
 #include "tracer/trace_log.h"
@@ -100,7 +102,15 @@ rt_tlog_reader *rt_tlog_reader_open(const char *path, const rt_bvh_image *img, c
     r->tot.stream_hash = RT_TLOG_FNV_OFFSET;
     r->f = fopen(path, "rb");
     if (!r->f) {
-        snprintf(err, errlen, "%s: cannot open", path);
+        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+        rt_tlog_reader_close(r);
+        return NULL;
+    }
+    /* a folder opens like a file on Linux and reads as empty: it would be
+     * called a truncated log */
+    struct stat st;
+    if (fstat(fileno(r->f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        snprintf(err, errlen, "%s: is a folder, not a trace log", path);
         rt_tlog_reader_close(r);
         return NULL;
     }

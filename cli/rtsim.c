@@ -472,7 +472,7 @@ static int run_fidelity(job *j)
     progress_state ps = {!o->quiet && isatty(2), o->progress && !isatty(2), 0, 0, 0, (uint64_t)j->w * j->h, wall(),
                          NULL};
     rtsim_estimate_params ep;
-    char eerr[1200];
+    char eerr[RTCFG_PATH_MAX + 256];
     if (rtsim_estimate_load(&ep, eerr, sizeof eerr))
         ps.every = ep.progress_s;
     else if (ps.lines) {
@@ -535,7 +535,7 @@ static void announce(job *j, progress_state *ps)
 {
     const options *o = j->o;
     rtsim_estimate_params ep;
-    char eerr[1200];
+    char eerr[RTCFG_PATH_MAX + 256];
     if (!rtsim_estimate_load(&ep, eerr, sizeof eerr)) {
         fprintf(stderr, "rtsim: warning: no run-time estimate: %s\n", eerr);
         return;

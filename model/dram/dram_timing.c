@@ -367,7 +367,7 @@ static int apply_set(loader *L, const char *set, const char *origin)
     for (int i = 0; i < L->n && used + 40 < sizeof keys; i++)
         if (strcmp(L->e[i].section, section) == 0)
             used += (size_t)snprintf(keys + used, sizeof keys - used, "%s%s", used ? ", " : "", L->e[i].key);
-    char w[300];
+    char w[4096 + 64];   /* "FILE:LINE" (a path of up to PATH_MAX) or "--set KEY=VALUE" */
     if (origin)
         snprintf(w, sizeof w, "%s", origin);
     else

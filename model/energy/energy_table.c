@@ -111,6 +111,10 @@ static int fpu_handler(ini_file *f, void *user, const char *section, const char 
 int energy_table_load(energy_table *t, const char *sram_path, const char *fpu_path, char *err, size_t errlen)
 {
     memset(t, 0, sizeof *t);
+    if (strlen(sram_path) >= sizeof t->sram_path || strlen(fpu_path) >= sizeof t->fpu_path) {
+        snprintf(err, errlen, "%s, %s: path longer than %zu characters", sram_path, fpu_path, sizeof t->sram_path - 1);
+        return -1;
+    }
     snprintf(t->sram_path, sizeof t->sram_path, "%s", sram_path);
     snprintf(t->fpu_path, sizeof t->fpu_path, "%s", fpu_path);
     loader L = {.t = t};

@@ -126,7 +126,7 @@ typedef struct job {
     double host_s;
     int sig;                        /* the signal that interrupted the run, or 0 */
     char reason[200];
-    char err[600];
+    char err[4096 + 512];   /* a message with a whole path (PATH_MAX) in it */
 } job;
 
 /* The output path, the standard and power files (defaults beside each

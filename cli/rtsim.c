@@ -203,7 +203,7 @@ static rtcfg *make_cfg(char *err, size_t errlen)
 
 static int help_module(const char *name)
 {
-    char err[512];
+    char err[4096 + 512];   /* a message with a whole path (PATH_MAX) in it */
     rtcfg *cfg = make_cfg(err, sizeof err);
     /* finished, so that the deferred [dram] keys (the DRAM standard file's) are listed */
     if (!cfg || rtcfg_finish(cfg, err, sizeof err)) {

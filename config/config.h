@@ -50,6 +50,8 @@ typedef enum rtcfg_type {
 #define RTCFG_PATH_MAX 4096
 /* "FILE:LINE" or "--set KEY=VALUE": where a value came from */
 #define RTCFG_WHERE_MAX (RTCFG_PATH_MAX + 64)
+/* a message that names a file: the whole path and room for the reason */
+#define RTCFG_MSG_MAX (RTCFG_PATH_MAX + 1024)
 
 typedef struct rtcfg_param {
     const char *name;     /* key within the section, e.g. "size" */

@@ -306,7 +306,7 @@ int fid_functional_run_attributed(const fid_job *job, const uint32_t *pixels, ui
     if (make_cache(cfg, "node_l2", &st.l2, err, errlen) || make_cache(cfg, "prim", &st.prim, err, errlen))
         goto done;
     {
-        char path[RTCFG_PATH_MAX], why[400];
+        char path[RTCFG_PATH_MAX], why[RTCFG_MSG_MAX];
         const char *file = rtcfg_str(cfg, "memory.dram_config");
         if (memsys_dram_path(cfg, path, sizeof path)) {
             snprintf(err, errlen, "memory.dram_config = %s: path longer than %d characters", file, RTCFG_PATH_MAX - 1);

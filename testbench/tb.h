@@ -95,6 +95,9 @@ static inline char *tb_read_file(const char *path, size_t *len)
  * it or ends the program with a FAIL naming the path. A path cut to a buffer
  * would name another file, and every later case would fail on it. */
 #define TB_PATH_MAX 4096
+/* A message buffer for errors that name a scratch file: the whole path and
+ * the reason (a shorter buffer cuts the reason a check looks for). */
+#define TB_ERR_MAX (TB_PATH_MAX + 1024)
 static inline const char *tb_pathf(char *buf, size_t size, const char *fmt, ...)
 {
     va_list ap;

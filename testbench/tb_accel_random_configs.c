@@ -286,7 +286,7 @@ static void steer_config(drawn_config *c)
         if (i == 0 && set_num(c, k, 8) < (double)lines_of(bytes, line))
             replace_set(c, k, lines_of(bytes, line));
     }
-    char err[512];
+    char err[TB_ERR_MAX];
     rtcfg *cfg = new_cfg(err, sizeof err);
     if (!cfg)
         return;

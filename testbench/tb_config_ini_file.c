@@ -57,7 +57,7 @@ static void test_reads_in_order(void)
 {
     tb_begin("ini_file_keys_in_order_with_lines");
     seen s;
-    char err[512];
+    char err[TB_ERR_MAX];
     TB_EQ_INT(read_text("; comment\n[a]\nx = 1\n\n[b]\ny=two words ; note\n[a]\nz = 3\n", &any, &s, err, sizeof err), 0);
     TB_CHECK(strcmp(s.log, "a.x=1@3;b.y=two words@6;a.z=3@8;") == 0, "%s", s.log);
     tb_end();
@@ -65,7 +65,7 @@ static void test_reads_in_order(void)
 
 static void test_file_errors(void)
 {
-    char err[512];
+    char err[TB_ERR_MAX];
     seen s;
     tb_begin("ini_file_cannot_open");
     char path[TB_PATH_MAX];
@@ -129,7 +129,7 @@ static int unknown_key(ini_file *f, void *user, const char *section, const char 
 
 static void test_helpers(void)
 {
-    char err[512];
+    char err[TB_ERR_MAX];
     tb_begin("ini_file_unknown_key_lists_allowed");
     TB_EQ_INT(ini_file_read(tmp_file("k.ini", "[s]\nalpha = 1\ngamma = 2\n"), &any, unknown_key, NULL, err, sizeof err),
               -1);

@@ -27,7 +27,7 @@ static const char *tmp_file(const char *name, const char *text)
 static rtcfg *mem_cfg(void)
 {
     rtcfg *c = rtcfg_create();
-    char err[512];
+    char err[TB_ERR_MAX];
     if (memsys_add_schemas(c, err, sizeof err))
         printf("memsys_add_schemas: %s\n", err);
     return c;
@@ -52,7 +52,7 @@ static int load_text(const char *text, char *err, size_t errlen)
 static void test_presets(void)
 {
     tb_begin("presets_load_with_paper_values");
-    char err[512] = "";
+    char err[TB_ERR_MAX] = "";
     rtcfg *b = mem_cfg(), *m = mem_cfg();
     TB_EQ_INT(rtcfg_load(b, "bvh2", err, sizeof err), 0);
     TB_CHECK(!err[0], "%s", err);
@@ -97,7 +97,7 @@ static void test_presets(void)
 static void test_overrides(void)
 {
     tb_begin("overrides_priority_and_deferred_schemas");
-    char err[512] = "";
+    char err[TB_ERR_MAX] = "";
     rtcfg *c = rtcfg_create();
     /* a --set before the file and before the schema is registered still wins */
     TB_EQ_INT(rtcfg_set(c, " node_l1.ways = 8 ", err, sizeof err), 0);
@@ -163,7 +163,7 @@ static void test_file_errors(void)
         char name[80];
         snprintf(name, sizeof name, "file_error_%s", cases[i].name);
         tb_begin(name);
-        char err[1024] = "";
+        char err[TB_ERR_MAX] = "";
         TB_EQ_INT(load_text(cases[i].text, err, sizeof err), -1);
         for (int k = 0; k < 3 && cases[i].expect[k]; k++)
             TB_HAS(err, cases[i].expect[k]);
@@ -174,7 +174,7 @@ static void test_file_errors(void)
     char big[400] = "[node_l1]\n; ";
     memset(big + strlen(big), 'x', 300);
     strcat(big, "\nways = 4\n");
-    char err[1024] = "";
+    char err[TB_ERR_MAX] = "";
     TB_EQ_INT(load_text(big, err, sizeof err), -1);
     TB_HAS(err, "case.ini:2: line too long");
     tb_end();
@@ -208,7 +208,7 @@ static void test_set_errors(void)
         snprintf(name, sizeof name, "set_error_%s", cases[i].name);
         tb_begin(name);
         rtcfg *c = mem_cfg();
-        char err[1024] = "";
+        char err[TB_ERR_MAX] = "";
         int rc = rtcfg_set(c, cases[i].set, err, sizeof err);
         if (rc == 0)
             rc = rtcfg_finish(c, err, sizeof err);
@@ -220,7 +220,7 @@ static void test_set_errors(void)
     /* an error stays an error when the schema arrives after the value */
     tb_begin("set_error_deferred_until_schema");
     rtcfg *c = rtcfg_create();
-    char err[512] = "";
+    char err[TB_ERR_MAX] = "";
     TB_EQ_INT(rtcfg_set(c, "prim.ways=0", err, sizeof err), 0);
     TB_EQ_INT(memsys_add_schemas(c, err, sizeof err), -1);
     TB_HAS(err, "--set prim.ways=0: prim.ways = 0 is out of range");
@@ -230,7 +230,7 @@ static void test_set_errors(void)
 
 static void test_dram_keys(void)
 {
-    char err[512] = "", path[TB_PATH_MAX];
+    char err[TB_ERR_MAX] = "", path[TB_PATH_MAX];
     tb_begin("dram_keys_set_checked_written");
     rtcfg *a = mem_cfg();
     TB_EQ_INT(rtcfg_load(a, "mbvh4", err, sizeof err), 0);
@@ -302,7 +302,7 @@ static void test_dram_keys(void)
 static void test_write_roundtrip(void)
 {
     tb_begin("write_ini_roundtrip");
-    char err[512] = "", path[TB_PATH_MAX];
+    char err[TB_ERR_MAX] = "", path[TB_PATH_MAX];
     tb_pathf(path, sizeof path, "%s/sized.ini", tmpdir);
     rtcfg *a = mem_cfg();
     TB_EQ_INT(rtcfg_load(a, "bvh2", err, sizeof err), 0);

@@ -55,7 +55,7 @@ static void test_load_and_exact(void)
 {
     tb_begin("energy_table_load_exact_row");
     static energy_table t;
-    char err[600];
+    char err[TB_ERR_MAX];
     TB_EQ_INT(load_small(&t, err, sizeof err), 0);
     TB_EQ_INT(t.nrows, 2);
     energy_sram fig;
@@ -74,7 +74,7 @@ static void test_scaling(void)
 {
     tb_begin("energy_sram_figure_scaling_laws");
     static energy_table t;
-    char err[600];
+    char err[TB_ERR_MAX];
     TB_EQ_INT(load_small(&t, err, sizeof err), 0);
     energy_sram fig;
     /* a 32 KB cache: s = 2 -> area, leakage x2; energies x sqrt(2) */
@@ -101,7 +101,7 @@ static void test_no_figure(void)
 {
     tb_begin("energy_sram_figure_refuses_uncovered_structures");
     static energy_table t;
-    char err[600];
+    char err[TB_ERR_MAX];
     TB_EQ_INT(load_small(&t, err, sizeof err), 0);
     energy_sram fig;
     /* another line size: no row */
@@ -128,7 +128,7 @@ static void test_no_figure(void)
 static void test_load_errors(void)
 {
     static energy_table t;
-    char err[600], s[TB_PATH_MAX], f[TB_PATH_MAX];
+    char err[TB_ERR_MAX], s[TB_PATH_MAX], f[TB_PATH_MAX];
     tb_pathf(s, sizeof s, "%s/bad_sram.ini", tmpdir);
     tb_pathf(f, sizeof f, "%s/fpu.ini", tmpdir);
     write_file(f, small_fpu);
@@ -210,7 +210,7 @@ static void test_arithmetic(void)
 {
     tb_begin("energy_compute_small_machine_by_hand");
     static energy_table t;
-    char err[600];
+    char err[TB_ERR_MAX];
     TB_EQ_INT(load_small(&t, err, sizeof err), 0);
     energy_machine m;
     small_machine(&m);
@@ -346,7 +346,7 @@ static void test_project_tables(void)
 {
     tb_begin("energy_project_tables_load");
     static energy_table t;
-    char err[600];
+    char err[TB_ERR_MAX];
     TB_EQ_INT(load_project_tables(&t, err, sizeof err), 0);
     energy_sram fig;
     energy_sram_req l1 = {"node_l1", ENERGY_CACHE, ENERGY_1RW, 16384, 4, 128, 0};
@@ -369,7 +369,7 @@ static void test_node_word(void)
 {
     tb_begin("energy_node_word_interpolated_in_line_width");
     static energy_table t;
-    char err[1200];
+    char err[TB_ERR_MAX];
     TB_EQ_INT(load_project_tables(&t, err, sizeof err), 0);
     energy_sram fig;
     /* MBVH3 L1: 16 KB, 4-way, 96 B words: the mean of [l1node_bvh] (64 B:
@@ -443,7 +443,7 @@ static void test_parts_declared(void)
         TB_CHECK(d != NULL, "no description of %s", modules[i]);
         if (!d)
             continue;
-        char err[256];
+        char err[TB_ERR_MAX];
         TB_CHECK(ks_module_desc_check(d, err, sizeof err) == 0, "%s", err);
         for (const ks_desc_item *it = d->items; it->kind != KS_DESC_END; it++) {
             if (it->kind != KS_DESC_PART)

@@ -92,7 +92,7 @@ int main(void)
     memset(ref, 0, sizeof ref);
     g_touched = 0;
     uint64_t forked0 = ks_pool_workers_forked();
-    char err[256] = "";
+    char err[TB_ERR_MAX] = "";
     TB_EQ_INT(ks_pool_run(N, 1, sizeof(piece_res), work_piece, NULL, ref, err, sizeof err), 0);
     for (int i = 0; i < N; i++)
         TB_EQ_INT(ref[i].index, i);

@@ -145,7 +145,7 @@ static const ks_desc_item nodef_items[] = {
 static void test_module_desc(void)
 {
     tb_begin("module_description_table");
-    char err[256] = "";
+    char err[TB_ERR_MAX] = "";
     TB_EQ_INT(ks_module_desc_check(&trv_desc, err, sizeof err), 0);
     TB_EQ_INT(ks_module_desc_count(&trv_desc, KS_DESC_PARAM), 2);
     TB_EQ_INT(ks_module_desc_count(&trv_desc, KS_DESC_STAT), 1);

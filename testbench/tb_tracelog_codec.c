@@ -434,7 +434,7 @@ static void test_round_trip(void)
             /* enough rays for several blocks */
             uint32_t n = tb_is_sanitized() ? 1500 : 6000;
             trace_all(&img, 64, cull, n, 11 + (uint64_t)wi, &t);
-            char path[TB_PATH_MAX], err[800];
+            char path[TB_PATH_MAX], err[TB_ERR_MAX];
             tb_pathf(path, sizeof path, "%s", tmp_path("syn_rt.tlog"));
             rt_tlog_totals tot;
             g_block_bytes = 16384;   /* several blocks */
@@ -478,7 +478,7 @@ static void test_round_trip(void)
     for (uint32_t i = 0; i < t.n; i++)
         over += !t.ok[i];
     TB_CHECK(over > 10 && over < t.n, "%u of %u rays overflow a 2-entry stack", over, t.n);
-    char err[800];
+    char err[TB_ERR_MAX];
     rt_tlog_totals tot;
     const char *path = tmp_path("syn_over.tlog");
     if (TB_CHECK(write_log(path, &img, 2, true, &t, err, sizeof err, &tot), "write: %s", err)) {
@@ -498,7 +498,7 @@ static void test_empty_log(void)
     rt_bvh_image img;
     syn_image(&img, 2, 2, 50, 1);
     traced t = {0};
-    char err[800];
+    char err[TB_ERR_MAX];
     rt_tlog_totals tot, rt;
     const char *path = tmp_path("syn_empty.tlog");
     TB_CHECK(write_log(path, &img, 64, false, &t, err, sizeof err, &tot), "write: %s", err);
@@ -516,7 +516,7 @@ static void test_corruption(void)
     syn_image(&img, 4, 2, 120, 21);
     traced t;
     trace_all(&img, 64, true, 40, 8, &t);
-    char err[800];
+    char err[TB_ERR_MAX];
     rt_tlog_totals tot;
     char path[TB_PATH_MAX], bad[TB_PATH_MAX];
     tb_pathf(path, sizeof path, "%s", tmp_path("syn_small.tlog"));
@@ -736,7 +736,7 @@ static void test_writer_rejects_non_traversals(void)
             rt_trv_params prm = {64, true};
             rt_tlog_info info;
             memset(&info, 0, sizeof info);
-            char err[800];
+            char err[TB_ERR_MAX];
             rt_tlog_writer *w = rt_tlog_writer_open(path, &img, &prm, &info, err, sizeof err);
             rt_tlog_ray_begin(w, &t.rays[ri - 1]);
             for (size_t k = 0; k < m.n; k++)

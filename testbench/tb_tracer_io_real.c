@@ -64,7 +64,7 @@ static void one(const char *root, const char *folder, const char *file, bool big
     tb_begin(name);
     long long want_v = source_count(dir, "Vertices:"), want_t = source_count(dir, "Triangles:");
     rt_scene s;
-    char err[1024] = "";
+    char err[TB_ERR_MAX] = "";
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     bool ok = rt_scene_load(path, &s, err, sizeof err);
@@ -100,7 +100,7 @@ static void scene_file(const char *file, const char *folder)
     tb_begin(name);
     snprintf(path, sizeof path, "scenes/%s", file);
     rt_scene s;
-    char err[1024] = "";
+    char err[TB_ERR_MAX] = "";
     bool ok = rt_scene_load(path, &s, err, sizeof err);
     TB_CHECK(ok && s.views.n == 2, "%s", err);
     if (ok)

@@ -142,7 +142,7 @@ static int data_path(const char *file, char *buf, size_t len)
 
 energy_model *energy_model_create(const rtcfg *cfg, const energy_machine *m, char *err, size_t errlen)
 {
-    char sram[RTCFG_PATH_MAX], fpu[RTCFG_PATH_MAX], why[600];
+    char sram[RTCFG_PATH_MAX], fpu[RTCFG_PATH_MAX], why[RTCFG_MSG_MAX];
     const char *sf = rtcfg_str(cfg, "energy.sram_table"), *ff = rtcfg_str(cfg, "energy.fpu_table");
     if (data_path(sf, sram, sizeof sram) || data_path(ff, fpu, sizeof fpu)) {
         snprintf(err, errlen, "energy tables (energy.sram_table = %s, energy.fpu_table = %s): path longer than %d "

@@ -246,7 +246,7 @@ int energy_sram_figure(const energy_table *t, const energy_sram_req *req, energy
 {
     if (!(req->kind == ENERGY_CACHE && req->node_word))
         return figure_of_row_line(t, req, out, err, errlen);
-    char why[1024];
+    char why[4096 + 1024];   /* names the table's file: a whole path (PATH_MAX) and the reason */
     if (figure_of_row_line(t, req, out, why, sizeof why) == 0)
         return 0;
     /* the line widths of the candidate rows, ascending, that cover this size */

@@ -154,7 +154,7 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
             goto fail;
         fixed_mem_connect(ms->fmem, mem_req_f, mem_resp_f);
     } else {
-        char path[RTCFG_PATH_MAX], why[400];
+        char path[RTCFG_PATH_MAX], why[RTCFG_MSG_MAX];
         /* the standard file with the [dram] keys of the configuration (memsys_config.h) */
         ms->spec = calloc(1, sizeof *ms->spec);
         if (!ms->spec) {

@@ -118,7 +118,7 @@ static int check_dram(const rtcfg *cfg, char *err, size_t errlen);
 static int register_dram(rtcfg *cfg, void *user, char *err, size_t errlen)
 {
     (void)user;
-    char path[RTCFG_PATH_MAX], why[600];
+    char path[RTCFG_PATH_MAX], why[RTCFG_MSG_MAX];
     const char *file = rtcfg_str(cfg, "memory.dram_config");
     bool needed = rtcfg_enum(cfg, "memory.model") == MEMSYS_LPDDR3;
     if (memsys_dram_path(cfg, path, sizeof path)) {
@@ -176,7 +176,7 @@ int memsys_dram_spec_load(const rtcfg *cfg, dram_spec *spec, char *err, size_t e
             n++;
         }
     }
-    char why[800];
+    char why[RTCFG_MSG_MAX];
     int rc = dram_spec_load_from(spec, path, sets, origins, n, why, sizeof why);
     if (rc)
         rtcfg_errorf(err, errlen, "memory.dram_config = %s: %s", file, why);

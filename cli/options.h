@@ -308,7 +308,7 @@ static inline int cli_parse(const cli_tool *t, int argc, char **argv, int *args)
 {
     struct option longopts[CLI_MAX_OPTS + 1];
     *args = 0;
-    char err[600];
+    char err[4096 + 512];   /* a message with a whole option value (a path) in it */
     int n = 0;
     for (const cli_opt *o = t->opts; o->name; o++, n++) {
         if (n == CLI_MAX_OPTS) {

@@ -126,7 +126,7 @@ typedef struct job {
     double host_s;
     int sig;                        /* the signal that interrupted the run, or 0 */
     char reason[200];
-    char err[600];
+    char err[4096 + 512];   /* a message with a whole path (PATH_MAX) in it */
 } job;
 
 /* The output path, the standard and power files (defaults beside each
@@ -144,7 +144,7 @@ static int load_spec(job *j)
     j->config = o->config;
     if (!j->config) {
         if (snprintf(j->cfg_buf, sizeof j->cfg_buf, "%s/lpddr3_1600.ini", dir) >= (int)sizeof j->cfg_buf) {
-            fprintf(stderr, "rtdram: RTSIM_DATA_DIR %.64s...: path too long\n", dir);
+            fprintf(stderr, "rtdram: RTSIM_DATA_DIR %s: path too long (%zu characters)\n", dir, strlen(dir));
             return 2;
         }
         j->config = j->cfg_buf;
@@ -155,7 +155,7 @@ static int load_spec(job *j)
         int n = slash ? (int)(slash - j->config) : 1;
         if (snprintf(j->pow_buf, sizeof j->pow_buf, "%.*s/lpddr3_1600_idd.ini", n, slash ? j->config : ".") >=
             (int)sizeof j->pow_buf) {
-            fprintf(stderr, "rtdram: --config %.64s...: path too long\n", j->config);
+            fprintf(stderr, "rtdram: --config %s: path too long (%zu characters)\n", j->config, strlen(j->config));
             return 2;
         }
         j->power = j->pow_buf;

@@ -220,7 +220,7 @@ static rtcfg *make_cfg(char *err, size_t errlen)
 
 static int help_module(const char *name)
 {
-    char err[512];
+    char err[4096 + 512];   /* a message with a whole path (PATH_MAX) in it */
     rtcfg *cfg = make_cfg(err, sizeof err);
     /* finished, so that the deferred [dram] keys (the DRAM standard file's) are listed */
     if (!cfg || rtcfg_finish(cfg, err, sizeof err)) {
@@ -485,7 +485,11 @@ static void fill_run(job *j)
 static bool series_dir_make(job *j, char *dir, size_t cap)
 {
     const char *tmp = getenv("TMPDIR");
-    snprintf(dir, cap, "%s/rtsim-series-XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    const int len = snprintf(dir, cap, "%s/rtsim-series-XXXXXX", tmp && *tmp ? tmp : "/tmp");
+    if (len < 0 || (size_t)len >= cap) {   /* refused, never cut (docs/kernel.md) */
+        snprintf(j->err, sizeof j->err, "--series: TMPDIR %s is longer than %zu characters", tmp, cap - 24);
+        return false;
+    }
     if (!mkdtemp(dir)) {
         snprintf(j->err, sizeof j->err, "--series: cannot make a scratch folder %s", dir);
         return false;
@@ -508,7 +512,7 @@ static int series_dir_join(job *j, const char *dir, bool write)
     if (out)
         accel_series_write_header(out, (uint32_t)rtcfg_int(j->cfg, "trv.count"));
     for (int i = 0; i < n; i++) {
-        char path[4096 + 2 + sizeof names[i]->d_name];
+        char path[RTCFG_PATH_MAX + 2 + sizeof names[i]->d_name];   /* dir fits RTCFG_PATH_MAX */
         snprintf(path, sizeof path, "%s/%s", dir, names[i]->d_name);
         FILE *in = out ? fopen(path, "r") : NULL;
         if (out && !in) {
@@ -540,7 +544,7 @@ static int run_fidelity(job *j)
     progress_state ps = {!o->quiet && isatty(2), o->progress && !isatty(2), 0, 0, 0, (uint64_t)j->w * j->h, wall(),
                          NULL};
     rtsim_estimate_params ep;
-    char eerr[1200];
+    char eerr[RTCFG_PATH_MAX + 256];
     if (rtsim_estimate_load(&ep, eerr, sizeof eerr))
         ps.every = ep.progress_s;
     else if (ps.lines) {
@@ -550,7 +554,7 @@ static int run_fidelity(job *j)
     ps.last = ps.t0;
     fid_job job = {j->cfg, &j->sc.mesh, j->view, &j->img, j->w, j->h, o->diffuse, (uint32_t)o->bounces, o->seed,
                    o->sample_rate, progress_cb, &ps, (int)o->jobs, (uint32_t)o->windows, NULL, 0};
-    char series_dir[4096] = "";
+    char series_dir[RTCFG_PATH_MAX] = "";
     if (o->series) {
         if (!series_dir_make(j, series_dir, sizeof series_dir)) {
             fprintf(stderr, "rtsim: %s\n", j->err);
@@ -616,7 +620,7 @@ static void announce(job *j, progress_state *ps)
 {
     const options *o = j->o;
     rtsim_estimate_params ep;
-    char eerr[1200];
+    char eerr[RTCFG_PATH_MAX + 256];
     if (!rtsim_estimate_load(&ep, eerr, sizeof eerr)) {
         fprintf(stderr, "rtsim: warning: no run-time estimate: %s\n", eerr);
         return;

@@ -59,9 +59,12 @@ static int rtsim_estimate_ini(ini_file *f, void *user, const char *section, cons
 /* Reads DATA_DIR/estimate.ini (every key of [estimate] is needed). */
 static inline bool rtsim_estimate_load(rtsim_estimate_params *p, char *err, size_t errlen)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/estimate.ini", rtcfg_data_dir());
+    char path[RTCFG_PATH_MAX];
     memset(p, 0, sizeof *p);
+    if (snprintf(path, sizeof path, "%s/estimate.ini", rtcfg_data_dir()) >= (int)sizeof path) {
+        snprintf(err, errlen, "%s/estimate.ini: path longer than %d characters", rtcfg_data_dir(), RTCFG_PATH_MAX - 1);
+        return false;
+    }
     static const ini_file_opts opts = {.what = "a run-time estimate", .section = "estimate"};
     if (ini_file_read(path, &opts, rtsim_estimate_ini, p, err, errlen))
         return false;

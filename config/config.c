@@ -30,14 +30,14 @@ typedef struct slot {
     bool b;
     int e;
     int level;
-    char source[300];
+    char source[RTCFG_WHERE_MAX];
 } slot;
 
 /* An entry from a file or --set not yet claimed by a registered key. */
 typedef struct pending {
     char key[KEY_MAX];
     char *value;
-    char where[300];     /* "FILE:LINE" or "--set ASSIGNMENT" */
+    char where[RTCFG_WHERE_MAX];     /* "FILE:LINE" or "--set ASSIGNMENT" */
     int level;
     bool claimed;
 } pending;
@@ -126,6 +126,9 @@ void rtcfg_describe_range(const rtcfg_param *p, char *buf, size_t len)
     }
 }
 
+/* 0, -1 not an integer, -2 an integer too large for 64 bits (strtoull's
+ * ERANGE, or the K/M/G multiple): told apart so the message does not call a
+ * well-formed number "not an integer". */
 static int parse_int(const char *s, int64_t *out)
 {
     while (isspace((unsigned char)*s))
@@ -144,8 +147,9 @@ static int parse_int(const char *s, int64_t *out)
     errno = 0;
     char *end;
     unsigned long long v = strtoull(q, &end, base);
-    if (errno || end == q)
+    if (end == q)
         return -1;
+    const bool too_large = errno == ERANGE;
     unsigned long long mul = 1;
     if (*end == 'K' || *end == 'k')
         mul = 1ull << 10;
@@ -164,8 +168,8 @@ static int parse_int(const char *s, int64_t *out)
         end++;
     if (*end)
         return -1;
-    if (v > (unsigned long long)INT64_MAX / mul)
-        return -1;
+    if (too_large || v > (unsigned long long)INT64_MAX / mul)
+        return -2;
     v *= mul;
     *out = neg ? -(int64_t)v : (int64_t)v;
     return 0;
@@ -212,7 +216,11 @@ static int assign(slot *s, const char *text, const char *where, int level, char 
     int ev = 0;
     switch (p->type) {
     case RTCFG_INT:
-        if (parse_int(text, &iv))
+        int pi = parse_int(text, &iv);
+        if (pi == -2)
+            return rtcfg_errorf(err, errlen, "%s: %s = '%s' does not fit in 64 bits (allowed %s)", where, s->key,
+                                text, range);
+        if (pi)
             return rtcfg_errorf(err, errlen, "%s: %s = '%s' is not an integer (allowed %s)", where, s->key, text, range);
         if ((double)iv < p->min || (double)iv > p->max)
             return rtcfg_errorf(err, errlen, "%s: %s = %s is out of range (allowed %s)", where, s->key, text, range);
@@ -458,7 +466,7 @@ static void list_presets(char *buf, size_t len)
     buf[0] = 0;
     size_t used = 0;
     for (size_t i = 0; i < sizeof names / sizeof names[0]; i++) {
-        char path[512];
+        char path[RTCFG_PATH_MAX];
         if (rtcfg_preset_path(names[i], path, sizeof path) == 0 && access(path, R_OK) == 0)
             used += (size_t)snprintf(buf + used, len - used, "%s%s", used ? ", " : "", names[i]);
         if (used >= len)
@@ -470,10 +478,11 @@ static void list_presets(char *buf, size_t len)
 
 int rtcfg_load(rtcfg *cfg, const char *what, char *err, size_t errlen)
 {
-    char path[1024];
+    char path[RTCFG_PATH_MAX];
     if (is_preset_name(what)) {
         if (rtcfg_preset_path(what, path, sizeof path))
-            return rtcfg_errorf(err, errlen, "machine preset '%s': path too long", what);
+            return rtcfg_errorf(err, errlen, "machine preset '%s': %s/machines/%s.ini is longer than %d characters",
+                                what, rtcfg_data_dir(), what, RTCFG_PATH_MAX - 1);
         if (access(path, R_OK) != 0) {
             char names[200];
             list_presets(names, sizeof names);
@@ -481,13 +490,13 @@ int rtcfg_load(rtcfg *cfg, const char *what, char *err, size_t errlen)
                                 what, names);
         }
     } else if (snprintf(path, sizeof path, "%s", what) >= (int)sizeof path) {
-        return rtcfg_errorf(err, errlen, "configuration path too long");
+        return rtcfg_errorf(err, errlen, "%s: configuration path longer than %d characters", what, RTCFG_PATH_MAX - 1);
     }
     file_loader L = {0};
     static const ini_file_opts opts = {.what = "a machine configuration", .example = "node_l1"};
     int result = ini_file_read(path, &opts, handler, &L, err, errlen);
     for (int i = 0; i < L.n && result == 0; i++) {
-        char where[1100];
+        char where[RTCFG_WHERE_MAX];   /* path (< RTCFG_PATH_MAX) and line: fits */
         snprintf(where, sizeof where, "%s:%d", path, L.e[i].line);
         result = apply_entry(cfg, L.e[i].key, L.e[i].value, where, LEVEL_FILE, err, errlen);
     }
@@ -510,8 +519,9 @@ static void trim(char *s)
 
 int rtcfg_set(rtcfg *cfg, const char *assignment, char *err, size_t errlen)
 {
-    char where[300];
-    snprintf(where, sizeof where, "--set %s", assignment);
+    char where[RTCFG_WHERE_MAX];
+    if (snprintf(where, sizeof where, "--set %s", assignment) >= (int)sizeof where)
+        return rtcfg_errorf(err, errlen, "--set: assignment longer than %d characters", RTCFG_WHERE_MAX - 7);
     const char *eq = strchr(assignment, '=');
     if (!eq)
         return rtcfg_errorf(err, errlen, "%s: expected KEY=VALUE with KEY = section.name (e.g. trv.count=8)", where);
@@ -667,7 +677,7 @@ void rtcfg_write_ini_file(const rtcfg *cfg, FILE *f)
 
 int rtcfg_write_ini(const rtcfg *cfg, const char *path, char *err, size_t errlen)
 {
-    char tmp[1100];
+    char tmp[RTCFG_PATH_MAX + 8];
     if (snprintf(tmp, sizeof tmp, "%s.tmp", path) >= (int)sizeof tmp)
         return rtcfg_errorf(err, errlen, "%s: path too long", path);
     FILE *f = fopen(tmp, "w");

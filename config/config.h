@@ -43,6 +43,16 @@ typedef enum rtcfg_type {
 
 #define RTCFG_POW2 1u   /* int must be a power of two */
 
+/* A path buffer of the configuration and of the files it names (machines,
+ * the DRAM standard and its currents, energy tables, estimate.ini): PATH_MAX
+ * on Linux. A path that does not fit is refused with a message naming it,
+ * never cut (a cut path names another file). */
+#define RTCFG_PATH_MAX 4096
+/* "FILE:LINE" or "--set KEY=VALUE": where a value came from */
+#define RTCFG_WHERE_MAX (RTCFG_PATH_MAX + 64)
+/* a message that names a file: the whole path and room for the reason */
+#define RTCFG_MSG_MAX (RTCFG_PATH_MAX + 1024)
+
 typedef struct rtcfg_param {
     const char *name;     /* key within the section, e.g. "size" */
     rtcfg_type type;

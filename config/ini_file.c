@@ -24,6 +24,9 @@ struct ini_file {
     FILE *f;
     int line;             /* lines read so far (inih calls the reader once per line) */
     int long_line;        /* first line longer than the buffer, 0: none */
+    size_t bytes;         /* bytes read so far */
+    int too_big;          /* line at which INI_FILE_MAX_BYTES was passed, 0: not */
+    int nul_line;         /* line with a NUL byte (not text), 0: none */
     int fail_line;        /* line of the first reported error, 0: none (inih reads on) */
     ini_file_fn fn;
     void *user;
@@ -90,21 +93,39 @@ int ini_file_number(const char *value, double *out)
     return 0;
 }
 
-/* inih reader: counts lines and skips the rest of an over-long line (noted)
- * instead of letting inih take it for several lines. */
+/* inih reader: counts lines and bytes. It ends the file at an over-long line
+ * (noted; inih would take it for several lines) and after INI_FILE_MAX_BYTES
+ * (noted): skipping to the end of the line, or reading on, would never end on
+ * an input without newlines or without end (/dev/zero, a FIFO fed forever). */
 static char *reader(char *buf, int size, void *stream)
 {
     ini_file *f = stream;
-    if (!fgets(buf, size, f->f))
+    if (f->long_line || f->too_big || f->nul_line)
         return NULL;
-    f->line++;
-    size_t n = strlen(buf);
-    if (n == (size_t)size - 1 && buf[n - 1] != '\n' && !feof(f->f)) {
-        if (!f->long_line)
-            f->long_line = f->line;
-        int c;
-        while ((c = fgetc(f->f)) != EOF && c != '\n') {
+    /* byte by byte, not fgets: fgets cannot tell a NUL byte from the end of
+     * the line, and /dev/zero would read as empty lines without end */
+    int n = 0, c = EOF;
+    while (n < size - 1 && (c = getc_unlocked(f->f)) != EOF) {
+        if (c == 0) {
+            f->nul_line = f->line + 1;
+            return NULL;
         }
+        buf[n++] = (char)c;
+        if (c == '\n')
+            break;
+    }
+    if (n == 0)
+        return NULL;
+    buf[n] = 0;
+    f->line++;
+    f->bytes += (size_t)n;
+    if (n == size - 1 && buf[n - 1] != '\n' && (c = getc_unlocked(f->f)) != EOF) {
+        f->long_line = f->line;
+        return NULL;
+    }
+    if (f->bytes > INI_FILE_MAX_BYTES) {
+        f->too_big = f->line;
+        return NULL;
     }
     return buf;
 }
@@ -169,6 +190,15 @@ int ini_file_read(const char *path, const ini_file_opts *opts, ini_file_fn fn, v
     int first = f.fail_line;
     if (syntax_line && (!first || syntax_line < first))
         first = syntax_line;
+    if (f.nul_line && (!first || f.nul_line <= first)) {
+        snprintf(err, errlen, "%s:%d: NUL byte (not a text file)", path, f.nul_line);
+        return -1;
+    }
+    if (f.too_big && (!first || f.too_big <= first)) {
+        snprintf(err, errlen, "%s: more than %d MiB, the most an INI file may hold (an endless stream?)", path,
+                 INI_FILE_MAX_BYTES >> 20);
+        return -1;
+    }
     if (f.long_line && (!first || f.long_line <= first)) {
         snprintf(err, errlen, "%s:%d: line too long (at most %d characters)", path, f.long_line, INI_MAX_LINE - 2);
         return -1;

@@ -13,12 +13,18 @@
  *    across repeated headings), a section other than opts->section when that
  *    is set, and whatever the handler reports with ini_file_error().
  *  - Without a line: "PATH: cannot open: REASON", "PATH: is a folder, not
- *    WHAT (.ini) file".
+ *    WHAT (.ini) file", "PATH: more than 4 MiB, the most an INI file may
+ *    hold" (read from a stream, it stops there: /dev/zero, a FIFO fed
+ *    forever, /dev/urandom end in a refusal, never in a hang).
  *  - The handler returns 0 to go on, or -1 after ini_file_error(); it is not
  *    called again after an error.
  *  - Returns 0, or -1 with the message in err. Deterministic. */
 #ifndef RTSIM_CONFIG_INI_FILE_H
 #define RTSIM_CONFIG_INI_FILE_H
+
+/* The most ini_file_read() reads of one file; every INI file of the project
+ * (machines, DRAM standards and currents, energy tables) is a few KiB. */
+#define INI_FILE_MAX_BYTES (4 << 20)
 
 #include <stddef.h>
 

@@ -306,10 +306,12 @@ int fid_functional_run_attributed(const fid_job *job, const uint32_t *pixels, ui
     if (make_cache(cfg, "node_l2", &st.l2, err, errlen) || make_cache(cfg, "prim", &st.prim, err, errlen))
         goto done;
     {
-        char path[1024], why[400];
+        char path[RTCFG_PATH_MAX], why[RTCFG_MSG_MAX];
         const char *file = rtcfg_str(cfg, "memory.dram_config");
-        snprintf(path, sizeof path, "%s%s%s", strchr(file, '/') ? "" : rtcfg_data_dir(), strchr(file, '/') ? "" : "/",
-                 file);
+        if (memsys_dram_path(cfg, path, sizeof path)) {
+            snprintf(err, errlen, "memory.dram_config = %s: path longer than %d characters", file, RTCFG_PATH_MAX - 1);
+            goto done;
+        }
         if (dram_spec_load(&st.spec, path, NULL, 0, why, sizeof why) || dram_addrmap_init(&st.map, &st.spec, why, sizeof why)) {
             snprintf(err, errlen, "memory.dram_config = %s: %s", file, why);
             goto done;

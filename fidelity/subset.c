@@ -30,8 +30,14 @@ int fid_subset_open_series(fid_subset *s, const fid_job *job, const rtcfg *cfg, 
     memset(s, 0, sizeof *s);
     accel_top_opts o = {0};
     if (job->series_dir && tag) {
-        char path[4096];
-        snprintf(path, sizeof path, "%s/%s-%06u.csv", job->series_dir, tag, piece);
+        char path[RTCFG_PATH_MAX];
+        const int len = snprintf(path, sizeof path, "%s/%s-%06u.csv", job->series_dir, tag, piece);
+        if (len < 0 || (size_t)len >= sizeof path) {   /* refused, never cut (docs/kernel.md) */
+            snprintf(err, errlen, "--series: the scratch path under %s is longer than %d characters",
+                     job->series_dir, RTCFG_PATH_MAX - 1);
+            fid_subset_close(s);
+            return 2;
+        }
         if (!(s->series_f = fopen(path, "w")) ||
             !(s->series = accel_series_create(s->series_f, job->series_interval, false))) {
             snprintf(err, errlen, "--series: cannot write %s", path);

@@ -57,7 +57,7 @@ static void join(char *dst, size_t cap, const char *a, const char *suffix)
 
 static int fail(char *err, size_t errlen, const ks_out *o, const char *fmt, const char *a, const char *b)
 {
-    int n = snprintf(err, errlen, "%s %.256s: ", o->opt, o->path);
+    int n = snprintf(err, errlen, "%s %s: ", o->opt, o->path);
     if (n >= 0 && (size_t)n < errlen)
         snprintf(err + n, errlen - (size_t)n, fmt, a, b);
     return -1;
@@ -187,7 +187,7 @@ ks_out *ks_out_plan(const char *opt, const char *path, char *err, size_t errlen)
                 return NULL;
             }
             if (stat(dir, &dst) != 0 || !S_ISDIR(dst.st_mode) || !realpath(dir, rdir)) {
-                fail(err, errlen, o, "folder %.256s does not exist%s", dir, "");
+                fail(err, errlen, o, "folder %s does not exist%s", dir, "");
                 return NULL;
             }
             if (snprintf(o->target, sizeof o->target, "%s/%s", strcmp(rdir, "/") ? rdir : "", base) >=
@@ -224,8 +224,8 @@ ks_out *ks_out_plan(const char *opt, const char *path, char *err, size_t errlen)
     }
     const ks_out *dup_of = same_file(o);
     if (dup_of) {
-        char other[400];
-        snprintf(other, sizeof other, "%s %.300s", dup_of->opt, dup_of->path);
+        char other[sizeof dup_of->opt + OUT_PATH + 1];
+        snprintf(other, sizeof other, "%s %s", dup_of->opt, dup_of->path);
         close(o->fd);
         if (o->tmp_live)
             unlink(o->tmp);
@@ -290,11 +290,16 @@ const char *ks_out_stage(ks_out *o, char *err, size_t errlen)
         const char *dir = getenv("TMPDIR");
         const char *base = strrchr(o->path, '/') ? strrchr(o->path, '/') + 1 : o->path;
         static unsigned seq;
-        snprintf(o->tmp, sizeof o->tmp, "%s/rtsim-out.%ld.%u.%.200s", dir && *dir ? dir : "/tmp", (long)getpid(), seq++,
-                 base);
+        /* the base name is cut to 200 bytes on purpose: the staging file's own
+         * name must stay within NAME_MAX (255); the output keeps its name */
+        if (snprintf(o->tmp, sizeof o->tmp, "%s/rtsim-out.%ld.%u.%.200s", dir && *dir ? dir : "/tmp", (long)getpid(),
+                     seq++, base) >= (int)sizeof o->tmp) {
+            fail(err, errlen, o, "TMPDIR %s: path too long for the staging file%s", dir, "");
+            return NULL;
+        }
         int fd = open(o->tmp, O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
         if (fd < 0) {
-            fail(err, errlen, o, "cannot create the staging file %.300s: %s", o->tmp, strerror(errno));
+            fail(err, errlen, o, "cannot create the staging file %s: %s", o->tmp, strerror(errno));
             return NULL;
         }
         close(fd);

@@ -115,6 +115,22 @@ def main():
         except (OSError, ValueError) as e:
             die(f"{path}: unreadable result ({e}); delete it to rerun the point", 1)
 
+    if points and not results:
+        # Not one point has a result: rtsim failed (or never started) on
+        # every one. Say so with the first point's error rather than report
+        # figures of merit "missing from rtsim's JSON".
+        first = points[0][0]
+        log = os.path.join(d, "logs", first + ".log")
+        print(f"sweep: rtsim failed on all {len(points)} points, no result to merge; "
+              f"the first point's error ({log}):", file=sys.stderr)
+        try:
+            with open(log, errors="replace") as f:
+                lines = f.read().splitlines()[-5:]
+            print("\n".join("  " + line for line in lines) if lines else "  (its log is empty)", file=sys.stderr)
+        except OSError:
+            print("  (no log: the point's job did not start rtsim; see the messages above)", file=sys.stderr)
+        return 1
+
     present = [fig for fig in FIGURES if any(fig[1] in j for _, j in results)]
     absent = [fig[0] for fig in FIGURES if fig not in present]
 

@@ -36,7 +36,12 @@ run_one() { # variant, label, command...
 for build in "$@"; do
   variant=$(basename "$build")
   [ "$build" = build ] && variant=release
-  export RTSIM_BIN="$PWD/$build/bin" RTSIM_TMP="$PWD/$build/tmp/tb"
+  # The scratch folder sits under a long path with spaces and a non-ASCII
+  # letter, as a user's checkout may: a test or tool that cuts a path to a
+  # fixed width or splits it at a space fails here, wherever the checkout is.
+  deep="scratch with spaces/Jääskeläinen tmp/a folder name long enough that every path under it/is over 120 characters long"
+  export RTSIM_BIN="$PWD/$build/bin" RTSIM_TMP="$PWD/$build/tmp/$deep/tb"
+  if [ ${#RTSIM_TMP} -lt 120 ]; then echo "run.sh: RTSIM_TMP shorter than 120 characters: $RTSIM_TMP" >&2; exit 1; fi
   rm -rf "$RTSIM_TMP"; mkdir -p "$RTSIM_TMP"
   if [ "$variant" != release ]; then export RTSIM_TB_SANITIZED=1; else unset RTSIM_TB_SANITIZED; fi
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1

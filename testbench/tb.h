@@ -89,6 +89,30 @@ static inline char *tb_read_file(const char *path, size_t *len)
     return b;
 }
 
+/* Paths. The scratch folder (RTSIM_TMP) may sit anywhere, under a long path
+ * with spaces (run.sh puts it under one): a path buffer of a testbench is
+ * TB_PATH_MAX bytes, the longest path Linux takes, and tb_pathf formats into
+ * it or ends the program with a FAIL naming the path. A path cut to a buffer
+ * would name another file, and every later case would fail on it. */
+#define TB_PATH_MAX 4096
+/* A message buffer for errors that name a scratch file: the whole path and
+ * the reason (a shorter buffer cuts the reason a check looks for). */
+#define TB_ERR_MAX (TB_PATH_MAX + 1024)
+static inline const char *tb_pathf(char *buf, size_t size, const char *fmt, ...)
+{
+    va_list ap;
+    va_start(ap, fmt);
+    int n = vsnprintf(buf, size, fmt, ap);
+    va_end(ap);
+    if (n < 0 || (size_t)n >= size) {
+        printf("FAIL %s: path longer than %zu bytes: %s...\n", tb_case_name ? tb_case_name : "tb_path", size - 1,
+               buf);
+        fflush(stdout);
+        exit(1);
+    }
+    return buf;
+}
+
 /* Set by run.sh for the sanitizer build: heavy cases may shrink their inputs. */
 static inline bool tb_is_sanitized(void) { return getenv("RTSIM_TB_SANITIZED") != NULL; }
 

@@ -286,7 +286,7 @@ static void steer_config(drawn_config *c)
         if (i == 0 && set_num(c, k, 8) < (double)lines_of(bytes, line))
             replace_set(c, k, lines_of(bytes, line));
     }
-    char err[512];
+    char err[TB_ERR_MAX];
     rtcfg *cfg = new_cfg(err, sizeof err);
     if (!cfg)
         return;
@@ -333,7 +333,7 @@ static double host_bytes(const drawn_config *c)
 #define N_RANDOM_SCENES 6
 
 typedef struct scene_slot {
-    char name[64];          /* built-in name or file path */
+    char name[TB_PATH_MAX]; /* built-in name or file path (under RTSIM_TMP) */
     rt_scene sc;
     bool loaded, failed;
     rt_bvh_image img[RT_WIDTH_MAX + 1];   /* per width, built on first use */
@@ -568,7 +568,7 @@ int main(void)
     tb_begin("random_config_scenes_written");
     for (unsigned i = 0; i < N_RANDOM_SCENES; i++) {
         scene_slot *s = &scenes[nb + i];
-        snprintf(s->name, sizeof s->name, "%.40s/random_%u.obj", tmp, i);
+        tb_pathf(s->name, sizeof s->name, "%s/random_%u.obj", tmp, i);
         unsigned ntri = i == 0 ? 1 : (unsigned)draw_int(2, 200);
         TB_CHECK(write_random_scene(s->name, ntri), "cannot write %s", s->name);
     }

@@ -11,12 +11,12 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static char tmpdir[512];
+static char tmpdir[TB_PATH_MAX];
 
 static const char *tmp_file(const char *name, const char *text)
 {
-    static char path[700];
-    snprintf(path, sizeof path, "%s/%s", tmpdir, name);
+    static char path[TB_PATH_MAX];
+    tb_pathf(path, sizeof path, "%s/%s", tmpdir, name);
     FILE *f = fopen(path, "w");
     fputs(text, f);
     fclose(f);
@@ -57,7 +57,7 @@ static void test_reads_in_order(void)
 {
     tb_begin("ini_file_keys_in_order_with_lines");
     seen s;
-    char err[512];
+    char err[TB_ERR_MAX];
     TB_EQ_INT(read_text("; comment\n[a]\nx = 1\n\n[b]\ny=two words ; note\n[a]\nz = 3\n", &any, &s, err, sizeof err), 0);
     TB_CHECK(strcmp(s.log, "a.x=1@3;b.y=two words@6;a.z=3@8;") == 0, "%s", s.log);
     tb_end();
@@ -65,17 +65,17 @@ static void test_reads_in_order(void)
 
 static void test_file_errors(void)
 {
-    char err[512];
+    char err[TB_ERR_MAX];
     seen s;
     tb_begin("ini_file_cannot_open");
-    char path[700];
-    snprintf(path, sizeof path, "%s/none.ini", tmpdir);
+    char path[TB_PATH_MAX];
+    tb_pathf(path, sizeof path, "%s/none.ini", tmpdir);
     TB_EQ_INT(ini_file_read(path, &any, record, &s, err, sizeof err), -1);
     TB_HAS(err, "none.ini: cannot open: No such file or directory");
     tb_end();
 
     tb_begin("ini_file_folder");
-    snprintf(path, sizeof path, "%s/adir", tmpdir);
+    tb_pathf(path, sizeof path, "%s/adir", tmpdir);
     mkdir(path, 0700);
     TB_EQ_INT(ini_file_read(path, &any, record, &s, err, sizeof err), -1);
     TB_HAS(err, "adir: is a folder, not a test file (.ini) file");
@@ -129,7 +129,7 @@ static int unknown_key(ini_file *f, void *user, const char *section, const char 
 
 static void test_helpers(void)
 {
-    char err[512];
+    char err[TB_ERR_MAX];
     tb_begin("ini_file_unknown_key_lists_allowed");
     TB_EQ_INT(ini_file_read(tmp_file("k.ini", "[s]\nalpha = 1\ngamma = 2\n"), &any, unknown_key, NULL, err, sizeof err),
               -1);
@@ -149,7 +149,7 @@ static void test_helpers(void)
 int main(void)
 {
     const char *base = getenv("RTSIM_TMP");
-    snprintf(tmpdir, sizeof tmpdir, "%s/tb_ini_XXXXXX", base && *base ? base : "/tmp");
+    tb_pathf(tmpdir, sizeof tmpdir, "%s/tb_ini_XXXXXX", base && *base ? base : "/tmp");
     if (!mkdtemp(tmpdir)) {
         printf("FAIL setup: mkdtemp %s\n", tmpdir);
         return 1;
@@ -157,8 +157,8 @@ int main(void)
     test_reads_in_order();
     test_file_errors();
     test_helpers();
-    char cmd[600];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+    char cmd[TB_PATH_MAX + 16];
+    tb_pathf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
     if (system(cmd) != 0)
         printf("INFO could not remove %s\n", tmpdir);
     return tb_finish();

@@ -10,14 +10,14 @@
 
 #include <unistd.h>
 
-static char tmpdir[512];
+static char tmpdir[TB_PATH_MAX];
 
 static const char *tmp_file(const char *name, const char *text)
 {
-    static char path[4][700];
+    static char path[4][TB_PATH_MAX];
     static int k;
     char *p = path[k++ % 4];
-    snprintf(p, 700, "%s/%s", tmpdir, name);
+    tb_pathf(p, TB_PATH_MAX, "%s/%s", tmpdir, name);
     FILE *f = fopen(p, "w");
     fputs(text, f);
     fclose(f);
@@ -27,7 +27,7 @@ static const char *tmp_file(const char *name, const char *text)
 static rtcfg *mem_cfg(void)
 {
     rtcfg *c = rtcfg_create();
-    char err[512];
+    char err[TB_ERR_MAX];
     if (memsys_add_schemas(c, err, sizeof err))
         printf("memsys_add_schemas: %s\n", err);
     return c;
@@ -52,7 +52,7 @@ static int load_text(const char *text, char *err, size_t errlen)
 static void test_presets(void)
 {
     tb_begin("presets_load_with_paper_values");
-    char err[512] = "";
+    char err[TB_ERR_MAX] = "";
     rtcfg *b = mem_cfg(), *m = mem_cfg();
     TB_EQ_INT(rtcfg_load(b, "bvh2", err, sizeof err), 0);
     TB_CHECK(!err[0], "%s", err);
@@ -97,7 +97,7 @@ static void test_presets(void)
 static void test_overrides(void)
 {
     tb_begin("overrides_priority_and_deferred_schemas");
-    char err[512] = "";
+    char err[TB_ERR_MAX] = "";
     rtcfg *c = rtcfg_create();
     /* a --set before the file and before the schema is registered still wins */
     TB_EQ_INT(rtcfg_set(c, " node_l1.ways = 8 ", err, sizeof err), 0);
@@ -163,7 +163,7 @@ static void test_file_errors(void)
         char name[80];
         snprintf(name, sizeof name, "file_error_%s", cases[i].name);
         tb_begin(name);
-        char err[1024] = "";
+        char err[TB_ERR_MAX] = "";
         TB_EQ_INT(load_text(cases[i].text, err, sizeof err), -1);
         for (int k = 0; k < 3 && cases[i].expect[k]; k++)
             TB_HAS(err, cases[i].expect[k]);
@@ -174,7 +174,7 @@ static void test_file_errors(void)
     char big[400] = "[node_l1]\n; ";
     memset(big + strlen(big), 'x', 300);
     strcat(big, "\nways = 4\n");
-    char err[1024] = "";
+    char err[TB_ERR_MAX] = "";
     TB_EQ_INT(load_text(big, err, sizeof err), -1);
     TB_HAS(err, "case.ini:2: line too long");
     tb_end();
@@ -208,7 +208,7 @@ static void test_set_errors(void)
         snprintf(name, sizeof name, "set_error_%s", cases[i].name);
         tb_begin(name);
         rtcfg *c = mem_cfg();
-        char err[1024] = "";
+        char err[TB_ERR_MAX] = "";
         int rc = rtcfg_set(c, cases[i].set, err, sizeof err);
         if (rc == 0)
             rc = rtcfg_finish(c, err, sizeof err);
@@ -220,7 +220,7 @@ static void test_set_errors(void)
     /* an error stays an error when the schema arrives after the value */
     tb_begin("set_error_deferred_until_schema");
     rtcfg *c = rtcfg_create();
-    char err[512] = "";
+    char err[TB_ERR_MAX] = "";
     TB_EQ_INT(rtcfg_set(c, "prim.ways=0", err, sizeof err), 0);
     TB_EQ_INT(memsys_add_schemas(c, err, sizeof err), -1);
     TB_HAS(err, "--set prim.ways=0: prim.ways = 0 is out of range");
@@ -230,7 +230,7 @@ static void test_set_errors(void)
 
 static void test_dram_keys(void)
 {
-    char err[512] = "", path[700];
+    char err[TB_ERR_MAX] = "", path[TB_PATH_MAX];
     tb_begin("dram_keys_set_checked_written");
     rtcfg *a = mem_cfg();
     TB_EQ_INT(rtcfg_load(a, "mbvh4", err, sizeof err), 0);
@@ -249,7 +249,7 @@ static void test_dram_keys(void)
     /* read_latency = nCL + nDQSCK + nBL in the file: follows the override */
     TB_EQ_INT(spec.read_latency, 14 + 2 + 4);
     /* written with every other key, and loaded back */
-    snprintf(path, sizeof path, "%s/dram.ini", tmpdir);
+    tb_pathf(path, sizeof path, "%s/dram.ini", tmpdir);
     TB_EQ_INT(rtcfg_write_ini(a, path, err, sizeof err), 0);
     rtcfg *b = mem_cfg();
     TB_EQ_INT(rtcfg_load(b, path, err, sizeof err), 0);
@@ -302,8 +302,8 @@ static void test_dram_keys(void)
 static void test_write_roundtrip(void)
 {
     tb_begin("write_ini_roundtrip");
-    char err[512] = "", path[700];
-    snprintf(path, sizeof path, "%s/sized.ini", tmpdir);
+    char err[TB_ERR_MAX] = "", path[TB_PATH_MAX];
+    tb_pathf(path, sizeof path, "%s/sized.ini", tmpdir);
     rtcfg *a = mem_cfg();
     TB_EQ_INT(rtcfg_load(a, "bvh2", err, sizeof err), 0);
     TB_EQ_INT(rtcfg_set(a, "fifo.mem_l2_req=4", err, sizeof err), 0);
@@ -312,7 +312,7 @@ static void test_write_roundtrip(void)
     TB_EQ_INT(rtcfg_set(a, "memory.dram_config=/some path/x.ini", err, sizeof err), 0);
     TB_EQ_INT(rtcfg_set(a, "memory.model=fixed", err, sizeof err), 0);
     TB_EQ_INT(rtcfg_write_ini(a, path, err, sizeof err), 0);
-    char tmp[720];
+    char tmp[TB_PATH_MAX + 16];
     snprintf(tmp, sizeof tmp, "%s.tmp", path);
     TB_CHECK(access(tmp, F_OK) != 0, "temp file left behind");
     rtcfg *b = mem_cfg();
@@ -357,7 +357,7 @@ static void test_write_roundtrip(void)
 int main(void)
 {
     const char *base = getenv("RTSIM_TMP");
-    snprintf(tmpdir, sizeof tmpdir, "%s/tb_config_XXXXXX", base && *base ? base : "/tmp");
+    tb_pathf(tmpdir, sizeof tmpdir, "%s/tb_config_XXXXXX", base && *base ? base : "/tmp");
     if (!mkdtemp(tmpdir)) {
         printf("FAIL setup: mkdtemp %s\n", tmpdir);
         return 1;
@@ -368,8 +368,8 @@ int main(void)
     test_set_errors();
     test_write_roundtrip();
     test_dram_keys();
-    char cmd[600];
-    snprintf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
+    char cmd[TB_PATH_MAX + 16];
+    tb_pathf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
     if (system(cmd) != 0)
         fprintf(stderr, "could not remove %s\n", tmpdir);
     return tb_finish();

@@ -23,7 +23,7 @@ static int load_with(const char *const *sets, int n, char *err, size_t errlen)
 static void expect_error(const char *name, const char *set, const char *want1, const char *want2)
 {
     tb_begin(name);
-    char err[600];
+    char err[TB_ERR_MAX];
     int rc = load_with(&set, 1, err, sizeof err);
     TB_CHECK(rc != 0, "--set %s accepted", set);
     TB_CHECK(strstr(err, want1) != NULL, "message '%s' lacks '%s'", err, want1);
@@ -34,9 +34,9 @@ static void expect_error(const char *name, const char *set, const char *want1, c
 /* Writes text to a temporary file; returns its path (static buffer). */
 static const char *temp_file(const char *text)
 {
-    static char path[256];
+    static char path[TB_PATH_MAX];
     const char *dir = getenv("RTSIM_TMP") ? getenv("RTSIM_TMP") : "/tmp";
-    snprintf(path, sizeof path, "%s/tb_dram_spec_XXXXXX", dir);
+    tb_pathf(path, sizeof path, "%s/tb_dram_spec_XXXXXX", dir);
     int fd = mkstemp(path);
     if (fd < 0)
         return NULL;
@@ -53,7 +53,7 @@ static void expect_file_error(const char *name, const char *text, const char *wa
     TB_CHECK(p != NULL, "cannot create a temporary file");
     if (p) {
         dram_spec s;
-        char err[600];
+        char err[TB_ERR_MAX];
         TB_CHECK(dram_spec_load(&s, p, NULL, 0, err, sizeof err) != 0, "accepted");
         TB_CHECK(strstr(err, want1) != NULL, "message '%s' lacks '%s'", err, want1);
         TB_CHECK(want2 == NULL || strstr(err, want2) != NULL, "message '%s' lacks '%s'", err, want2);
@@ -79,7 +79,7 @@ static char *mini(const char *middle)
 int main(void)
 {
     dram_spec spec;
-    char err[600];
+    char err[TB_ERR_MAX];
     tb_begin("dram_spec_default_values");
     if (TB_CHECK(dram_spec_load(&spec, CFG, NULL, 0, err, sizeof err) == 0, "%s", err)) {
         TB_EQ_INT(spec.channels, 2);

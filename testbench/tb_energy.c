@@ -13,7 +13,7 @@
 #include "model/energy/energy_table.h"
 #include "testbench/tb.h"
 
-static char tmpdir[512];
+static char tmpdir[TB_PATH_MAX];
 
 static void write_file(const char *path, const char *text)
 {
@@ -43,9 +43,9 @@ static const char *small_fpu = "[fpu]\nenergy_pj_per_flop = 2\narea_mm2_per_flop
 
 static int load_small(energy_table *t, char *err, size_t errlen)
 {
-    char s[600], f[600];
-    snprintf(s, sizeof s, "%s/sram.ini", tmpdir);
-    snprintf(f, sizeof f, "%s/fpu.ini", tmpdir);
+    char s[TB_PATH_MAX], f[TB_PATH_MAX];
+    tb_pathf(s, sizeof s, "%s/sram.ini", tmpdir);
+    tb_pathf(f, sizeof f, "%s/fpu.ini", tmpdir);
     write_file(s, small_sram);
     write_file(f, small_fpu);
     return energy_table_load(t, s, f, err, errlen);
@@ -55,7 +55,7 @@ static void test_load_and_exact(void)
 {
     tb_begin("energy_table_load_exact_row");
     static energy_table t;
-    char err[600];
+    char err[TB_ERR_MAX];
     TB_EQ_INT(load_small(&t, err, sizeof err), 0);
     TB_EQ_INT(t.nrows, 2);
     energy_sram fig;
@@ -74,7 +74,7 @@ static void test_scaling(void)
 {
     tb_begin("energy_sram_figure_scaling_laws");
     static energy_table t;
-    char err[600];
+    char err[TB_ERR_MAX];
     TB_EQ_INT(load_small(&t, err, sizeof err), 0);
     energy_sram fig;
     /* a 32 KB cache: s = 2 -> area, leakage x2; energies x sqrt(2) */
@@ -101,7 +101,7 @@ static void test_no_figure(void)
 {
     tb_begin("energy_sram_figure_refuses_uncovered_structures");
     static energy_table t;
-    char err[600];
+    char err[TB_ERR_MAX];
     TB_EQ_INT(load_small(&t, err, sizeof err), 0);
     energy_sram fig;
     /* another line size: no row */
@@ -128,9 +128,9 @@ static void test_no_figure(void)
 static void test_load_errors(void)
 {
     static energy_table t;
-    char err[600], s[600], f[600];
-    snprintf(s, sizeof s, "%s/bad_sram.ini", tmpdir);
-    snprintf(f, sizeof f, "%s/fpu.ini", tmpdir);
+    char err[TB_ERR_MAX], s[TB_PATH_MAX], f[TB_PATH_MAX];
+    tb_pathf(s, sizeof s, "%s/bad_sram.ini", tmpdir);
+    tb_pathf(f, sizeof f, "%s/fpu.ini", tmpdir);
     write_file(f, small_fpu);
 
     tb_begin("energy_table_bad_value_names_file_line_key");
@@ -171,7 +171,7 @@ static void test_load_errors(void)
     tb_end();
 
     tb_begin("energy_table_missing_file");
-    snprintf(s, sizeof s, "%s/none.ini", tmpdir);
+    tb_pathf(s, sizeof s, "%s/none.ini", tmpdir);
     TB_EQ_INT(energy_table_load(&t, s, f, err, sizeof err), -1);
     TB_CHECK(strstr(err, "none.ini: cannot open"), "%s", err);
     tb_end();
@@ -210,7 +210,7 @@ static void test_arithmetic(void)
 {
     tb_begin("energy_compute_small_machine_by_hand");
     static energy_table t;
-    char err[600];
+    char err[TB_ERR_MAX];
     TB_EQ_INT(load_small(&t, err, sizeof err), 0);
     energy_machine m;
     small_machine(&m);
@@ -310,9 +310,9 @@ static void test_arithmetic(void)
     tb_begin("energy_multiport_law");
     {
         static energy_table t2;
-        char s[600], f[600];
-        snprintf(s, sizeof s, "%s/sram_mp.ini", tmpdir);
-        snprintf(f, sizeof f, "%s/fpu.ini", tmpdir);
+        char s[TB_PATH_MAX], f[TB_PATH_MAX];
+        tb_pathf(s, sizeof s, "%s/sram_mp.ini", tmpdir);
+        tb_pathf(f, sizeof f, "%s/fpu.ini", tmpdir);
         char text[2048];
         snprintf(text, sizeof text, "%s[multiport]\nports = 4\narea = 4\nread = 2\nwrite = 2\nleak = 16\n", small_sram);
         write_file(s, text);
@@ -334,10 +334,10 @@ static void test_arithmetic(void)
 /* Loads the project's SRAM and FPU tables (RTSIM_DATA_DIR, else model/data). */
 static int load_project_tables(energy_table *t, char *err, size_t errlen)
 {
-    char s[600], f[600];
+    char s[TB_PATH_MAX], f[TB_PATH_MAX];
     const char *dir = getenv("RTSIM_DATA_DIR");
-    snprintf(s, sizeof s, "%s/energy/sram_45nm.ini", dir && *dir ? dir : "model/data");
-    snprintf(f, sizeof f, "%s/energy/fpu_45nm.ini", dir && *dir ? dir : "model/data");
+    tb_pathf(s, sizeof s, "%s/energy/sram_45nm.ini", dir && *dir ? dir : "model/data");
+    tb_pathf(f, sizeof f, "%s/energy/fpu_45nm.ini", dir && *dir ? dir : "model/data");
     return energy_table_load(t, s, f, err, errlen);
 }
 
@@ -346,7 +346,7 @@ static void test_project_tables(void)
 {
     tb_begin("energy_project_tables_load");
     static energy_table t;
-    char err[600];
+    char err[TB_ERR_MAX];
     TB_EQ_INT(load_project_tables(&t, err, sizeof err), 0);
     energy_sram fig;
     energy_sram_req l1 = {"node_l1", ENERGY_CACHE, ENERGY_1RW, 16384, 4, 128, 0};
@@ -369,7 +369,7 @@ static void test_node_word(void)
 {
     tb_begin("energy_node_word_interpolated_in_line_width");
     static energy_table t;
-    char err[1200];
+    char err[TB_ERR_MAX];
     TB_EQ_INT(load_project_tables(&t, err, sizeof err), 0);
     energy_sram fig;
     /* MBVH3 L1: 16 KB, 4-way, 96 B words: the mean of [l1node_bvh] (64 B:
@@ -443,7 +443,7 @@ static void test_parts_declared(void)
         TB_CHECK(d != NULL, "no description of %s", modules[i]);
         if (!d)
             continue;
-        char err[256];
+        char err[TB_ERR_MAX];
         TB_CHECK(ks_module_desc_check(d, err, sizeof err) == 0, "%s", err);
         for (const ks_desc_item *it = d->items; it->kind != KS_DESC_END; it++) {
             if (it->kind != KS_DESC_PART)
@@ -462,9 +462,9 @@ static void test_parts_declared(void)
 int main(void)
 {
     const char *base = getenv("RTSIM_TMP");
-    snprintf(tmpdir, sizeof tmpdir, "%s/tb_energy", base && *base ? base : "/tmp");
-    char cmd[600];
-    snprintf(cmd, sizeof cmd, "mkdir -p '%s'", tmpdir);
+    tb_pathf(tmpdir, sizeof tmpdir, "%s/tb_energy", base && *base ? base : "/tmp");
+    char cmd[TB_PATH_MAX + 16];
+    tb_pathf(cmd, sizeof cmd, "mkdir -p '%s'", tmpdir);
     if (system(cmd) != 0)
         return 2;
     test_load_and_exact();

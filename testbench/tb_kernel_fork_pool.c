@@ -92,7 +92,7 @@ int main(void)
     memset(ref, 0, sizeof ref);
     g_touched = 0;
     uint64_t forked0 = ks_pool_workers_forked();
-    char err[256] = "";
+    char err[TB_ERR_MAX] = "";
     TB_EQ_INT(ks_pool_run(N, 1, sizeof(piece_res), work_piece, NULL, ref, err, sizeof err), 0);
     for (int i = 0; i < N; i++)
         TB_EQ_INT(ref[i].index, i);
@@ -151,10 +151,10 @@ int main(void)
 
     tb_begin("pool_worker_exit_keeps_parent_outputs");
     {
-        char path[256], tmp[300];
+        char path[TB_PATH_MAX], tmp[TB_PATH_MAX + 16];
         const char *dir = getenv("RTSIM_TMP") ? getenv("RTSIM_TMP") : "/tmp";
-        snprintf(path, sizeof path, "%s/tb_kernel_fork_pool.%d.json", dir, (int)getpid());
-        snprintf(tmp, sizeof tmp, "%s.tmp.%d", path, (int)getpid());
+        tb_pathf(path, sizeof path, "%s/tb_kernel_fork_pool.%d.json", dir, (int)getpid());
+        tb_pathf(tmp, sizeof tmp, "%s.tmp.%d", path, (int)getpid());
         ks_out *o = ks_out_plan("--json", path, err, sizeof err);
         TB_CHECK(o != NULL, "plan: %s", err);
         err[0] = 0;

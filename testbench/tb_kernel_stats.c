@@ -74,9 +74,9 @@ static int have_python(void) { return system("command -v python3 >/dev/null 2>&1
 static void test_outputs(void)
 {
     const char *dir = getenv("RTSIM_TMP");
-    char json[1024], csv[1024], cmd[4096];
-    snprintf(json, sizeof json, "%s/kernel_stats.json", dir && *dir ? dir : "/tmp");
-    snprintf(csv, sizeof csv, "%s/kernel_stats.csv", dir && *dir ? dir : "/tmp");
+    char json[TB_PATH_MAX], csv[TB_PATH_MAX], cmd[TB_PATH_MAX + 1024];
+    tb_pathf(json, sizeof json, "%s/kernel_stats.json", dir && *dir ? dir : "/tmp");
+    tb_pathf(csv, sizeof csv, "%s/kernel_stats.csv", dir && *dir ? dir : "/tmp");
     uint64_t owned = 500;
     ks_stats *r = make_registry(&owned);
 
@@ -85,7 +85,7 @@ static void test_outputs(void)
     TB_EQ_INT(ks_stats_write_json(r, f), 0);
     fclose(f);
     if (have_python()) {
-        snprintf(cmd, sizeof cmd,
+        tb_pathf(cmd, sizeof cmd,
                  "python3 -c 'import json,sys; d=json.load(open(sys.argv[1]));"
                  "assert d[\"l1.accesses\"]==1000 and d[\"l1.hits\"]==750;"
                  "assert d[\"trv0.node_visits\"]==500 and d[\"energy\"]==0.1;"
@@ -145,7 +145,7 @@ static const ks_desc_item nodef_items[] = {
 static void test_module_desc(void)
 {
     tb_begin("module_description_table");
-    char err[256] = "";
+    char err[TB_ERR_MAX] = "";
     TB_EQ_INT(ks_module_desc_check(&trv_desc, err, sizeof err), 0);
     TB_EQ_INT(ks_module_desc_count(&trv_desc, KS_DESC_PARAM), 2);
     TB_EQ_INT(ks_module_desc_count(&trv_desc, KS_DESC_STAT), 1);

@@ -56,7 +56,7 @@ static int scen_step(void *u, uint64_t cycle)
 static void tmp_path(char *buf, size_t cap, const char *name)
 {
     const char *dir = getenv("RTSIM_TMP");
-    snprintf(buf, cap, "%s/%s", dir && *dir ? dir : "/tmp", name);
+    tb_pathf(buf, cap, "%s/%s", dir && *dir ? dir : "/tmp", name);
 }
 
 static int run_scenario(const char *path, ks_time wb, ks_time we, const char *filter,
@@ -106,12 +106,12 @@ static int have_vcd2fst(void) { return system("command -v vcd2fst >/dev/null 2>&
 /* vcd2fst must accept the file and fst2vcd must give back our variables. */
 static void check_with_gtkwave(const char *vcd, const char *must_contain)
 {
-    char fst[1200], back[1200], cmd[4000];
-    snprintf(fst, sizeof fst, "%s.fst", vcd);
-    snprintf(back, sizeof back, "%s.back.vcd", vcd);
-    snprintf(cmd, sizeof cmd, "vcd2fst '%s' '%s' >/dev/null 2>&1", vcd, fst);
+    char fst[TB_PATH_MAX], back[TB_PATH_MAX], cmd[2 * TB_PATH_MAX + 64];
+    tb_pathf(fst, sizeof fst, "%s.fst", vcd);
+    tb_pathf(back, sizeof back, "%s.back.vcd", vcd);
+    tb_pathf(cmd, sizeof cmd, "vcd2fst '%s' '%s' >/dev/null 2>&1", vcd, fst);
     TB_CHECK(system(cmd) == 0, "vcd2fst failed on %s", vcd);
-    snprintf(cmd, sizeof cmd, "fst2vcd '%s' >'%s' 2>/dev/null", fst, back);
+    tb_pathf(cmd, sizeof cmd, "fst2vcd '%s' >'%s' 2>/dev/null", fst, back);
     TB_CHECK(system(cmd) == 0, "fst2vcd failed on %s", fst);
     char *t = tb_read_file(back, NULL);
     TB_CHECK(t && strstr(t, must_contain), "round trip through FST lost '%s'", must_contain);
@@ -122,7 +122,7 @@ static void check_with_gtkwave(const char *vcd, const char *must_contain)
 
 int main(void)
 {
-    char path[1024];
+    char path[TB_PATH_MAX];
     unsigned nvars = 0;
 
     tb_begin("vcd_text_of_a_small_scenario");
@@ -142,8 +142,8 @@ int main(void)
         fprintf(stderr, "expected:\n%s", expect);
     free(txt);
     /* written under a temporary name and renamed */
-    char tmp[1100];
-    snprintf(tmp, sizeof tmp, "%s.tmp", path);
+    char tmp[TB_PATH_MAX];
+    tb_pathf(tmp, sizeof tmp, "%s.tmp", path);
     TB_CHECK(tb_read_file(tmp, NULL) == NULL, "temporary file left behind");
     tb_end();
 

@@ -78,9 +78,9 @@ int main(void)
         long_names[k][sizeof long_names[k] - 1] = 0;
     }
     tb_begin("vcd_bulk_changes_in_one_time_stamp");
-    char path[1024];
+    char path[TB_PATH_MAX];
     const char *dir = getenv("RTSIM_TMP");
-    snprintf(path, sizeof path, "%s/kernel_vcd_bulk.vcd", dir && *dir ? dir : "/tmp");
+    tb_pathf(path, sizeof path, "%s/kernel_vcd_bulk.vcd", dir && *dir ? dir : "/tmp");
     ks_sim *sim = ks_sim_create();
     ks_vcd *vcd = ks_vcd_open(sim, path, "1ps", 0, KS_TIME_MAX, NULL);
     TB_CHECK(vcd != NULL, "open: %s", ks_sim_error(sim));

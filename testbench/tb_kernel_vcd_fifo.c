@@ -232,13 +232,13 @@ static long check_file(const char *path)
 static void tmp_path(char *buf, size_t cap, const char *name)
 {
     const char *dir = getenv("RTSIM_TMP");
-    snprintf(buf, cap, "%s/%s", dir && *dir ? dir : "/tmp", name);
+    tb_pathf(buf, cap, "%s/%s", dir && *dir ? dir : "/tmp", name);
 }
 
 int main(void)
 {
     uint64_t cycles = tb_is_sanitized() ? 400 : 3000;
-    char path[1024];
+    char path[TB_PATH_MAX];
     const struct {
         const char *name;
         ks_time wb, we;

@@ -132,6 +132,17 @@ check sweep_bad_key_message grep -q "bad input: rtsim: --set nosuch.key=1: unkno
 check sweep_bad_key_stops_the_rest test "$(grep -c "not run, an earlier point had bad input" <<< "$out")" -eq 2
 check sweep_bad_key_no_results test "$(ls -A "$tmp/bad/results" | wc -l)" -eq 0
 
+# --- rtsim fails on every point (here a stand-in that cannot run, exit 3):
+# the sweep says so with the first point's error and exits non-zero, instead
+# of reporting figures of merit "missing from rtsim's JSON"
+printf '#!/bin/sh\necho "rtsim-standin: cannot start: no such device" >&2\nexit 3\n' > "$tmp/broken rtsim"
+chmod +x "$tmp/broken rtsim"
+out=$("$sweep" --set-grid trv.count=2,4 --res 8x4 --rtsim "$tmp/broken rtsim" --jobs 1 --out "$tmp/allfail" 2>&1); rc=$?
+check sweep_all_failed_exit_1 test $rc -eq 1
+check sweep_all_failed_says_rtsim_failed grep -q "rtsim failed on all 2 points" <<< "$out"
+check sweep_all_failed_first_error grep -q "rtsim-standin: cannot start: no such device" <<< "$out"
+check sweep_all_failed_no_figures_line test "$(grep -c "figures of merit" <<< "$out")" -eq 0
+
 # --- the aggregator takes whatever figures the JSON has: results that also
 # carry energy_mj and mrps_per_mm2 (as rtsim will) get those columns and charts
 mkdir -p "$tmp/energy/results"

@@ -68,7 +68,8 @@ check sweep_slurm_csv_equals_local cmp "$tmp/cluster/results.csv" "$tmp/local/re
 # Resume on the cluster: two results lost, resubmitted with --wait, exactly
 # those two run and the merged CSV is the same again.
 rm -f "$tmp/cluster/results.csv"
-ls "$tmp/cluster/results/"*.json | head -n 2 | xargs rm -f
+lost=("$tmp/cluster/results/"*.json)   # an array, not ls | xargs: the path may hold spaces
+rm -f "${lost[@]:0:2}"
 out=$("$sweep" "${grid[@]}" --out "$tmp/cluster" --slurm --wait 2>&1); rc=$?
 check sweep_slurm_wait_exit_0 test $rc -eq 0
 check sweep_slurm_resume_two_to_run grep -q "4 points in .*, 2 to run" <<< "$out"

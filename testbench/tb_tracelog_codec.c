@@ -410,11 +410,11 @@ static void spit(const char *path, const unsigned char *b, size_t len)
     fclose(f);
 }
 
-static char g_tmp[512];
+static char g_tmp[TB_PATH_MAX];
 static const char *tmp_path(const char *name)
 {
     const char *d = getenv("RTSIM_TMP");
-    snprintf(g_tmp, sizeof g_tmp, "%s/%s", d && *d ? d : "/tmp", name);
+    tb_pathf(g_tmp, sizeof g_tmp, "%s/%s", d && *d ? d : "/tmp", name);
     return g_tmp;
 }
 
@@ -434,8 +434,8 @@ static void test_round_trip(void)
             /* enough rays for several blocks */
             uint32_t n = tb_is_sanitized() ? 1500 : 6000;
             trace_all(&img, 64, cull, n, 11 + (uint64_t)wi, &t);
-            char path[512], err[800];
-            snprintf(path, sizeof path, "%s", tmp_path("syn_rt.tlog"));
+            char path[TB_PATH_MAX], err[TB_ERR_MAX];
+            tb_pathf(path, sizeof path, "%s", tmp_path("syn_rt.tlog"));
             rt_tlog_totals tot;
             g_block_bytes = 16384;   /* several blocks */
             bool ok = write_log(path, &img, 64, cull, &t, err, sizeof err, &tot);
@@ -478,7 +478,7 @@ static void test_round_trip(void)
     for (uint32_t i = 0; i < t.n; i++)
         over += !t.ok[i];
     TB_CHECK(over > 10 && over < t.n, "%u of %u rays overflow a 2-entry stack", over, t.n);
-    char err[800];
+    char err[TB_ERR_MAX];
     rt_tlog_totals tot;
     const char *path = tmp_path("syn_over.tlog");
     if (TB_CHECK(write_log(path, &img, 2, true, &t, err, sizeof err, &tot), "write: %s", err)) {
@@ -498,7 +498,7 @@ static void test_empty_log(void)
     rt_bvh_image img;
     syn_image(&img, 2, 2, 50, 1);
     traced t = {0};
-    char err[800];
+    char err[TB_ERR_MAX];
     rt_tlog_totals tot, rt;
     const char *path = tmp_path("syn_empty.tlog");
     TB_CHECK(write_log(path, &img, 64, false, &t, err, sizeof err, &tot), "write: %s", err);
@@ -516,11 +516,11 @@ static void test_corruption(void)
     syn_image(&img, 4, 2, 120, 21);
     traced t;
     trace_all(&img, 64, true, 40, 8, &t);
-    char err[800];
+    char err[TB_ERR_MAX];
     rt_tlog_totals tot;
-    char path[512], bad[512];
-    snprintf(path, sizeof path, "%s", tmp_path("syn_small.tlog"));
-    snprintf(bad, sizeof bad, "%s", tmp_path("syn_bad.tlog"));
+    char path[TB_PATH_MAX], bad[TB_PATH_MAX];
+    tb_pathf(path, sizeof path, "%s", tmp_path("syn_small.tlog"));
+    tb_pathf(bad, sizeof bad, "%s", tmp_path("syn_bad.tlog"));
     bool ok = write_log(path, &img, 64, true, &t, err, sizeof err, &tot);
     size_t len = 0;
     unsigned char *orig = ok ? (unsigned char *)tb_read_file(path, &len) : NULL;
@@ -736,7 +736,7 @@ static void test_writer_rejects_non_traversals(void)
             rt_trv_params prm = {64, true};
             rt_tlog_info info;
             memset(&info, 0, sizeof info);
-            char err[800];
+            char err[TB_ERR_MAX];
             rt_tlog_writer *w = rt_tlog_writer_open(path, &img, &prm, &info, err, sizeof err);
             rt_tlog_ray_begin(w, &t.rays[ri - 1]);
             for (size_t k = 0; k < m.n; k++)

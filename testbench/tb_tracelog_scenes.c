@@ -32,8 +32,8 @@ static const char *tmp_dir(void)
 static double round_trip(const char *label, const rt_scene *sc, const rt_bvh_image *img, const rt_trv_params *p,
                          const rt_ray_set *rays, uint32_t ray_kind)
 {
-    char path[600], err[800];
-    snprintf(path, sizeof path, "%s/scene_%s.tlog", tmp_dir(), label);
+    char path[TB_PATH_MAX], err[TB_ERR_MAX];
+    tb_pathf(path, sizeof path, "%s/scene_%s.tlog", tmp_dir(), label);
     rt_tlog_info info;
     memset(&info, 0, sizeof info);
     info.mesh_hash = rt_mesh_hash(&sc->mesh);
@@ -135,7 +135,7 @@ int main(void)
     g_w = W, g_h = H;
     for (unsigned si = 0; si < rt_builtin_count(); si++) {
         const char *name = rt_builtin_name(si);
-        char err[800];
+        char err[TB_ERR_MAX];
         rt_scene sc;
         if (!rt_scene_load(name, &sc, err, sizeof err)) {
             tb_begin(name);

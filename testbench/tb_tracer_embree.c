@@ -72,7 +72,7 @@ static void report(const char *scene, int width, const char *kind, const rt_embr
 static void compare_scene(const char *label, const rt_mesh *m, const rt_view *view, uint32_t w, uint32_t h,
                           thresholds th_primary, thresholds th_diffuse)
 {
-    char name[160], err[1024];
+    char name[160], err[TB_ERR_MAX];
     snprintf(name, sizeof name, "embree_agrees_%s_%ux%u_primary_diffuse_width2_width4_wald4", label, w, h);
     tb_begin(name);
     rt_embree *e = rt_embree_create(m, RT_EMBREE_ROBUST, err, sizeof err);
@@ -121,7 +121,7 @@ static void test_builtins(void)
     for (unsigned i = 0; i < rt_builtin_count(); i++) {
         rt_mesh m;
         rt_views v;
-        char err[512];
+        char err[TB_ERR_MAX];
         if (!rt_builtin_generate(rt_builtin_name(i), &m, &v, err, sizeof err)) {
             tb_begin("embree_builtin_generate");
             TB_CHECK(false, "%s", err);
@@ -151,7 +151,7 @@ static void test_real(void)
     };
     const char *root = tbt_scenes_dir();
     for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
-        char name[160], path[1024], err[1024];
+        char name[160], path[TB_PATH_MAX], err[TB_ERR_MAX];
         snprintf(name, sizeof name, "embree_agrees_real_%s", scenes[i].folder);
         if (!root) {
             tb_skip(name, "../shared/scenes absent (set RTSIM_SCENES)");
@@ -161,7 +161,7 @@ static void test_real(void)
             tb_skip(name, "large scene: release build only");
             continue;
         }
-        snprintf(path, sizeof path, "%s/%s/%s", root, scenes[i].folder, scenes[i].file);
+        tb_pathf(path, sizeof path, "%s/%s/%s", root, scenes[i].folder, scenes[i].file);
         if (access(path, R_OK) != 0) {
             tb_skip(name, "scene file absent");
             continue;
@@ -219,7 +219,7 @@ static void test_classifier(void)
     rt_embree_tally_add(&t, &m, &r2, &same, &near);
     TB_CHECK(t.rays == 2 && t.cause[RT_EMBREE_SAME] == 2 && t.exact_t == 1, "tally");
     /* the Embree scene itself: the ray on the shared edge hits prim 0, 1 or 2 at t = 1 */
-    char err[256];
+    char err[TB_ERR_MAX];
     rt_embree *e = rt_embree_create(&m, RT_EMBREE_ROBUST, err, sizeof err);
     if (TB_CHECK(e != NULL, "%s", err)) {
         rt_hit h;

@@ -11,12 +11,12 @@
 #include "testbench/tb.h"
 #include "tracer/image.h"
 
-static char tmp[512];
+static char tmp[TB_PATH_MAX];
 
 static const char *at(const char *rel)
 {
-    static char path[1024];
-    snprintf(path, sizeof path, "%s/%s", tmp, rel);
+    static char path[TB_PATH_MAX];
+    tb_pathf(path, sizeof path, "%s/%s", tmp, rel);
     return path;
 }
 
@@ -44,7 +44,7 @@ static void test_round_trip(void)
         }
     rgb[0] = -0.5f;   /* clamps to 0 in PNG, kept in EXR */
     rgb[1] = 2.0f;    /* clamps to 1 in PNG */
-    char err[512] = "";
+    char err[TB_ERR_MAX] = "";
     float *back;
     uint32_t w, h;
 
@@ -79,7 +79,7 @@ static void test_heatmap(void)
     for (int i = 0; i < W * H; i++)
         v[i] = 10.0f + 10.0f * (float)(i % W) / (W - 1);   /* 10 .. 20 across */
     v[W] = NAN;
-    char err[512] = "", desc[256] = "";
+    char err[TB_ERR_MAX] = "", desc[256] = "";
     float *back;
     uint32_t w, h;
 
@@ -129,7 +129,7 @@ static void test_heatmap(void)
 static void test_errors(void)
 {
     float rgb[3 * 4] = {0};
-    char err[512] = "";
+    char err[TB_ERR_MAX] = "";
     tb_begin("image_error_unsupported_extension");
     bool ok = rt_image_write_rgb(at("x.bmpx"), rgb, 2, 2, err, sizeof err);
     TB_CHECK(!ok && strstr(err, "x.bmpx") && strstr(err, ".png or .exr"), "%s", err);
@@ -171,7 +171,7 @@ static void test_errors(void)
 int main(void)
 {
     const char *t = getenv("RTSIM_TMP");
-    snprintf(tmp, sizeof tmp, "%s/tb_tracer_io_image", t && *t ? t : "/tmp");
+    tb_pathf(tmp, sizeof tmp, "%s/tb_tracer_io_image", t && *t ? t : "/tmp");
     mkdir(tmp, 0777);
     test_round_trip();
     test_heatmap();

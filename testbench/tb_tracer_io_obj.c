@@ -33,7 +33,7 @@ static void test_face_forms(void)
     const char *text = "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nvn 0 0 1\n"
                        "f 1 2 3\nf 1/1 2/2 3/3\nf 1//1 2//1 3//1\nf 1/1/1 2/2/1 3/3/1\n";
     rt_mesh m;
-    char err[256] = "";
+    char err[TB_ERR_MAX] = "";
     bool ok = parse(text, &m, err, sizeof err);
     if (TB_CHECK(ok, "parse failed: %s", err)) {
         TB_EQ_INT(m.nverts, 3);
@@ -55,7 +55,7 @@ static void test_negative_and_polygons(void)
                        "v 0.5 2 0\n"
                        "f -5 -4 -3 -2 -1\n";     /* pentagon 0..4 -> 3 triangles */
     rt_mesh m;
-    char err[256] = "";
+    char err[TB_ERR_MAX] = "";
     bool ok = parse(text, &m, err, sizeof err);
     if (TB_CHECK(ok, "parse failed: %s", err)) {
         TB_EQ_INT(m.ntris, 6);
@@ -73,7 +73,7 @@ static void test_forward_refs_and_bom(void)
     tb_begin("obj_forward_references_and_byte_order_mark");
     const char *text = "\xef\xbb\xbfv 0 0 0\nf 1 2 3\nf 1/2 3/1 4/2\nv 1 0 0\nv 0 1 0\nv 1 1 0\nvt 0 0\nvt 1 1\n";
     rt_mesh m;
-    char err[256] = "";
+    char err[TB_ERR_MAX] = "";
     bool ok = parse(text, &m, err, sizeof err);
     if (TB_CHECK(ok, "parse failed: %s", err)) {
         TB_EQ_INT(m.nverts, 4);
@@ -93,7 +93,7 @@ static void test_comments_crlf(void)
                        "f 1 2 3 # trailing comment\r\n\tf 1 3 4\r\n#f 9 9 9\r\n"
                        "f 2 3 4";   /* no final newline */
     rt_mesh m;
-    char err[256] = "";
+    char err[TB_ERR_MAX] = "";
     bool ok = parse(text, &m, err, sizeof err);
     if (TB_CHECK(ok, "parse failed: %s", err)) {
         TB_EQ_INT(m.nverts, 4);
@@ -119,7 +119,7 @@ static void test_numbers(void)
         n += (size_t)snprintf(text + n, sizeof text - n, "v %s 0 0\n", nums[i]);
     snprintf(text + n, sizeof text - n, "f 1 2 3\n");
     rt_mesh m;
-    char err[256] = "";
+    char err[TB_ERR_MAX] = "";
     bool ok = parse(text, &m, err, sizeof err);
     if (TB_CHECK(ok, "parse failed: %s", err))
         for (int i = 0; i < N; i++) {
@@ -151,9 +151,9 @@ static void test_gzip(void)
 {
     tb_begin("obj_gzip_equals_plain");
     const char *text = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
-    char plain[512], gz[512], err[256] = "";
-    snprintf(plain, sizeof plain, "%s/tb_obj_plain.obj", tmpdir());
-    snprintf(gz, sizeof gz, "%s/tb_obj_gz.obj.gz", tmpdir());
+    char plain[TB_PATH_MAX], gz[TB_PATH_MAX], err[TB_ERR_MAX] = "";
+    tb_pathf(plain, sizeof plain, "%s/tb_obj_plain.obj", tmpdir());
+    tb_pathf(gz, sizeof gz, "%s/tb_obj_gz.obj.gz", tmpdir());
     rt_mesh a, b;
     memset(&a, 0, sizeof a);
     memset(&b, 0, sizeof b);
@@ -231,7 +231,7 @@ static void test_errors(void)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         tb_begin(cases[i].name);
         rt_mesh m;
-        char err[512] = "";
+        char err[TB_ERR_MAX] = "";
         bool ok = parse(cases[i].text, &m, err, sizeof err);
         TB_CHECK(!ok, "malformed input accepted");
         TB_CHECK(!ok && strncmp(err, cases[i].where, strlen(cases[i].where)) == 0,
@@ -245,10 +245,10 @@ static void test_errors(void)
     tb_begin("obj_error_directory_instead_of_file");
     {
         rt_mesh d;
-        char e2[512] = "";
+        char e2[TB_ERR_MAX] = "";
         const char *t = getenv("RTSIM_TMP");
         bool ok = rt_obj_load(t && *t ? t : "/tmp", &d, e2, sizeof e2);
-        TB_CHECK(!ok && strstr(e2, t && *t ? t : "/tmp") && (strstr(e2, "directory") || strstr(e2, "read error")),
+        TB_CHECK(!ok && strstr(e2, t && *t ? t : "/tmp") && strstr(e2, "is a folder, not a mesh file"),
                  "message: %s", e2);
         if (ok)
             rt_mesh_free(&d);
@@ -256,7 +256,7 @@ static void test_errors(void)
     tb_end();
     tb_begin("obj_error_missing_file");
     rt_mesh m;
-    char err[512] = "";
+    char err[TB_ERR_MAX] = "";
     bool ok = rt_obj_load("/nonexistent/dir/x.obj", &m, err, sizeof err);
     TB_CHECK(!ok && strstr(err, "/nonexistent/dir/x.obj") && strstr(err, "cannot open"),
              "message: %s", err);
@@ -290,7 +290,7 @@ static void test_fuzz(void)
         char *copy = malloc(n);   /* exact size, no NUL: ASan sees overreads */
         memcpy(copy, b, n);
         rt_mesh m;
-        char err[512] = "";
+        char err[TB_ERR_MAX] = "";
         bool ok = rt_obj_parse(copy, n, "t.obj", &m, err, sizeof err);
         free(copy);
         if (ok) {

@@ -138,7 +138,7 @@ static void test_formats(void)
             static buf b;
             make_ply(&b, (enum fmt)f, types[t][0], types[t][1]);
             rt_mesh m;
-            char err[512] = "";
+            char err[TB_ERR_MAX] = "";
             bool ok = rt_ply_parse(b.d, b.n, "t.ply", &m, err, sizeof err);
             if (TB_CHECK(ok, "parse failed: %s", err))
                 check_mesh(&m);
@@ -155,8 +155,8 @@ static void test_crlf_header_and_gzip(void)
                        "property list uchar int vertex_index\r\nend_header\r\n"
                        "0 0 0\r\n1 0 0\r\n0 1 0\r\n3 0 1 2\r\n";
     const char *tmp = getenv("RTSIM_TMP");
-    char path[512], err[512] = "";
-    snprintf(path, sizeof path, "%s/tb_ply.ply.gz", tmp && *tmp ? tmp : "/tmp");
+    char path[TB_PATH_MAX], err[TB_ERR_MAX] = "";
+    tb_pathf(path, sizeof path, "%s/tb_ply.ply.gz", tmp && *tmp ? tmp : "/tmp");
     gzFile g = gzopen(path, "wb");
     bool wrote = g && gzwrite(g, text, (unsigned)strlen(text)) == (int)strlen(text);
     if (g)
@@ -184,7 +184,7 @@ static void test_errors(void)
     tb_begin("ply_error_truncated_binary_names_byte_and_element");
     {
         rt_mesh m;
-        char err[512] = "";
+        char err[TB_ERR_MAX] = "";
         bool ok = rt_ply_parse(good.d, face1 + 8, "t.ply", &m, err, sizeof err);
         TB_CHECK(!ok && strstr(err, "t.ply: byte") && strstr(err, "element face index 1") &&
                      strstr(err, "truncated"),
@@ -201,7 +201,7 @@ static void test_errors(void)
         uint32_t bad = 7;
         memcpy(b.d + face1 + 2 + 4, &bad, 4);   /* second index of face 1 */
         rt_mesh m;
-        char err[512] = "";
+        char err[TB_ERR_MAX] = "";
         bool ok = rt_ply_parse(b.d, b.n, "t.ply", &m, err, sizeof err);
         TB_CHECK(!ok && strstr(err, "element face index 1") && strstr(err, "vertex index 7 out of range") &&
                      strstr(err, "0..4"),
@@ -218,7 +218,7 @@ static void test_errors(void)
         b.n = face1 + 2;   /* keep face 1's flags and count byte */
         b.d[face1 + 1] = 255;
         rt_mesh m;
-        char err[512] = "";
+        char err[TB_ERR_MAX] = "";
         bool ok = rt_ply_parse(b.d, b.n, "t.ply", &m, err, sizeof err);
         TB_CHECK(!ok && strstr(err, "element face index 1") && strstr(err, "runs past the end"), "message: %s",
                  ok ? "(accepted)" : err);
@@ -234,7 +234,7 @@ static void test_errors(void)
         char *p = strstr((char *)b.d, "element face 2");
         p[13] = '9';   /* "element face 9" */
         rt_mesh m;
-        char err[512] = "";
+        char err[TB_ERR_MAX] = "";
         bool ok = rt_ply_parse(b.d, b.n, "t.ply", &m, err, sizeof err);
         TB_CHECK(!ok && strstr(err, "t.ply") && strstr(err, "face"), "message: %s",
                  ok ? "(accepted)" : err);
@@ -291,7 +291,7 @@ static void test_errors(void)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         tb_begin(cases[i].name);
         rt_mesh m;
-        char err[512] = "";
+        char err[TB_ERR_MAX] = "";
         bool ok = rt_ply_parse((const unsigned char *)cases[i].text, strlen(cases[i].text), "t.ply", &m,
                                err, sizeof err);
         TB_CHECK(!ok, "malformed input accepted");
@@ -319,7 +319,7 @@ static void test_fuzz(void)
         unsigned accepted_prefixes = 0, silent = 0;
         for (size_t n = 0; n < good.n; n++) {
             rt_mesh m;
-            char err[512] = "";
+            char err[TB_ERR_MAX] = "";
             unsigned char *copy = malloc(n ? n : 1);   /* exact size: ASan sees overreads */
             memcpy(copy, good.d, n);
             bool ok = rt_ply_parse(copy, n, "t.ply", &m, err, sizeof err);
@@ -351,7 +351,7 @@ static void test_fuzz(void)
             unsigned char *copy = malloc(b.n);
             memcpy(copy, b.d, b.n);
             rt_mesh m;
-            char err[512] = "";
+            char err[TB_ERR_MAX] = "";
             bool ok = rt_ply_parse(copy, b.n, "t.ply", &m, err, sizeof err);
             free(copy);
             if (ok) {

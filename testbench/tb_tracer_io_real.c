@@ -20,8 +20,8 @@
  * after optional spaces); -1 when absent. */
 static long long source_count(const char *dir, const char *key)
 {
-    char path[1024], line[512];
-    snprintf(path, sizeof path, "%s/SOURCE.txt", dir);
+    char path[TB_PATH_MAX], line[512];
+    tb_pathf(path, sizeof path, "%s/SOURCE.txt", dir);
     FILE *f = fopen(path, "r");
     if (!f)
         return -1;
@@ -54,9 +54,9 @@ static void one(const char *root, const char *folder, const char *file, bool big
         tb_skip(name, "large scene: release build only");
         return;
     }
-    char dir[1024], path[1200];
-    snprintf(dir, sizeof dir, "%s/%s", root, folder);
-    snprintf(path, sizeof path, "%s/%s", dir, file);
+    char dir[TB_PATH_MAX], path[TB_PATH_MAX];
+    tb_pathf(dir, sizeof dir, "%s/%s", root, folder);
+    tb_pathf(path, sizeof path, "%s/%s", dir, file);
     if (access(path, R_OK) != 0) {
         tb_skip(name, "scene file absent");
         return;
@@ -64,7 +64,7 @@ static void one(const char *root, const char *folder, const char *file, bool big
     tb_begin(name);
     long long want_v = source_count(dir, "Vertices:"), want_t = source_count(dir, "Triangles:");
     rt_scene s;
-    char err[1024] = "";
+    char err[TB_ERR_MAX] = "";
     struct timespec t0, t1;
     clock_gettime(CLOCK_MONOTONIC, &t0);
     bool ok = rt_scene_load(path, &s, err, sizeof err);
@@ -90,7 +90,7 @@ static void one(const char *root, const char *folder, const char *file, bool big
  * worktree one level deeper: then this case skips). */
 static void scene_file(const char *file, const char *folder, uint32_t views)
 {
-    char name[128], path[256];
+    char name[128], path[TB_PATH_MAX];
     snprintf(name, sizeof name, "real_scene_file_%s_loads", file);
     snprintf(path, sizeof path, "../shared/scenes/%s", folder);
     if (access(path, R_OK) != 0) {
@@ -100,7 +100,7 @@ static void scene_file(const char *file, const char *folder, uint32_t views)
     tb_begin(name);
     snprintf(path, sizeof path, "scenes/%s", file);
     rt_scene s;
-    char err[1024] = "";
+    char err[TB_ERR_MAX] = "";
     bool ok = rt_scene_load(path, &s, err, sizeof err);
     TB_CHECK(ok && s.views.n == views, "%s (views %u, expected %u)", err, ok ? s.views.n : 0u, views);
     if (ok)

@@ -11,12 +11,12 @@
 #include "tracer/camera.h"
 #include "tracer/scene.h"
 
-static char tmp[512];
+static char tmp[TB_PATH_MAX];
 
 static bool write_text(const char *rel, const char *text)
 {
-    char path[1024];
-    snprintf(path, sizeof path, "%s/%s", tmp, rel);
+    char path[TB_PATH_MAX];
+    tb_pathf(path, sizeof path, "%s/%s", tmp, rel);
     FILE *f = fopen(path, "w");
     if (!f)
         return false;
@@ -26,10 +26,10 @@ static bool write_text(const char *rel, const char *text)
 
 static const char *at(const char *rel)
 {
-    static char path[4][1024];
+    static char path[4][TB_PATH_MAX];
     static int k;
     k = (k + 1) % 4;
-    snprintf(path[k], sizeof path[k], "%s/%s", tmp, rel);
+    tb_pathf(path[k], sizeof path[k], "%s/%s", tmp, rel);
     return path[k];
 }
 
@@ -39,7 +39,7 @@ static void test_views_valid(void)
     const char *text = "\xef\xbb\xbf# cameras\r\n\r\nview front eye -0.21 0.16 0.235 at -0.0168 0.104 -0.0015 up 0 1 0 fov 36\r\n"
                        "view side_2  eye 1e1 0 0 at 0 0 0 up 0 1 0 fov 179.5\n";
     rt_views vs;
-    char err[512] = "";
+    char err[TB_ERR_MAX] = "";
     bool ok = rt_views_parse_text(text, "v.txt", &vs, err, sizeof err);
     if (TB_CHECK(ok, "%s", err)) {
         TB_EQ_INT(vs.n, 2);
@@ -79,7 +79,7 @@ static void test_views_errors(void)
     for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
         tb_begin(cases[i].name);
         rt_views vs;
-        char err[512] = "";
+        char err[TB_ERR_MAX] = "";
         bool ok = rt_views_parse_text(cases[i].text, "v.txt", &vs, err, sizeof err);
         TB_CHECK(!ok, "accepted");
         TB_CHECK(!ok && !strncmp(err, cases[i].where, strlen(cases[i].where)), "'%s' does not start with '%s'",
@@ -100,7 +100,7 @@ static void test_views_errors(void)
         memset(text + n, '0', 200);
         snprintf(text + n + 200, sizeof text - (size_t)n - 200, "e1\n");
         rt_views vs;
-        char err[512] = "";
+        char err[TB_ERR_MAX] = "";
         bool ok = rt_views_parse_text(text, "v.txt", &vs, err, sizeof err);
         TB_CHECK(!ok, "accepted (fov %g)", ok && vs.n ? (double)vs.v[0].fov_deg : 0.0);
         TB_CHECK(!ok && strstr(err, "v.txt:1:") && strstr(err, "'fov' needs") && strstr(err, "000..."), "got '%s'",
@@ -116,10 +116,10 @@ static const char *two_views = "view one eye 3 3 3 at 0 0 0 up 0 1 0 fov 40\nvie
 
 static void test_scene_files(void)
 {
-    char d[1024];
-    snprintf(d, sizeof d, "%s/sub", tmp);
+    char d[TB_PATH_MAX];
+    tb_pathf(d, sizeof d, "%s/sub", tmp);
     mkdir(d, 0777);
-    snprintf(d, sizeof d, "%s/other", tmp);
+    tb_pathf(d, sizeof d, "%s/other", tmp);
     mkdir(d, 0777);
     bool wrote = write_text("sub/m.obj", tetra_obj) && write_text("sub/views.txt", two_views) &&
                  write_text("other/m.obj", tetra_obj) &&
@@ -129,7 +129,7 @@ static void test_scene_files(void)
                  write_text("s2.scene", "\xef\xbb\xbfmesh sub/m.obj\n") &&
                  write_text("s3.scene", "mesh sub/m.obj\nviews extra.txt\nview e2 eye 0 0 -5 at 0 0 0 up 0 1 0 fov 50\n") &&
                  write_text("s4.scene", "mesh builtin:city\n");
-    char err[1024] = "";
+    char err[TB_ERR_MAX] = "";
     rt_scene s;
 
     tb_begin("scene_file_builtin_with_own_view");
@@ -209,8 +209,8 @@ static void test_scene_files(void)
         {"scene_error_bad_mesh_inside", "e7.scene", "\nmesh bad.obj\n", "e7.scene:2:", "bad.obj:2:"},
         {"scene_error_bad_views_beside_mesh", "e8.scene", "mesh badv/m.obj\n", "e8.scene:1:", "views.txt:1:"},
     };
-    char bd[1024];
-    snprintf(bd, sizeof bd, "%s/badv", tmp);
+    char bd[TB_PATH_MAX];
+    tb_pathf(bd, sizeof bd, "%s/badv", tmp);
     mkdir(bd, 0777);
     write_text("bad.obj", "v 0 0 0\nf 1 2 3\n");
     write_text("badv/m.obj", tetra_obj);
@@ -278,7 +278,7 @@ static void test_repo_scene_files(void)
     tb_begin("repo_scene_files_match_builtins");
     for (unsigned i = 0; i < rt_builtin_count(); i++) {
         const char *name = rt_builtin_name(i);
-        char path[256], err[1024] = "";
+        char path[TB_PATH_MAX], err[TB_ERR_MAX] = "";
         snprintf(path, sizeof path, "scenes/%s.scene", name);
         rt_scene s;
         rt_mesh m;
@@ -303,7 +303,7 @@ int main(void)
 {
     test_repo_scene_files();
     const char *t = getenv("RTSIM_TMP");
-    snprintf(tmp, sizeof tmp, "%s/tb_tracer_io_scene", t && *t ? t : "/tmp");
+    tb_pathf(tmp, sizeof tmp, "%s/tb_tracer_io_scene", t && *t ? t : "/tmp");
     mkdir(tmp, 0777);
     test_views_valid();
     test_views_errors();

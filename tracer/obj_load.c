@@ -255,7 +255,7 @@ bool rt_obj_load(const char *path, rt_mesh *out, char *err, size_t errlen)
 {
     size_t len;
     memset(out, 0, sizeof *out);
-    unsigned char *buf = rt_read_file_gz(path, &len, err, errlen);
+    unsigned char *buf = rt_read_file_gz(path, "mesh file", RT_MESH_MAX_BYTES, &len, err, errlen);
     if (!buf)
         return false;
     bool ok = rt_obj_parse((const char *)buf, len, path, out, err, errlen);

@@ -3,6 +3,8 @@
  * writers (rply, tinyply, Blender, MeshLab) also use. */
 #include "tracer/ply_load.h"
 
+#include <errno.h>
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdint.h>
@@ -255,7 +257,16 @@ static bool parse_header(ply *p)
             have_format = true;
         } else if (strcmp(words[0], "element") == 0) {
             char *end = NULL;
+            errno = 0;
             unsigned long long cnt = nw == 3 ? strtoull(words[2], &end, 10) : 0;
+            /* strtoull gives ULLONG_MAX for a count that does not fit: say so
+             * rather than report that largest number as the count */
+            if (nw == 3 && end && !*end && words[2][0] != '-' && errno == ERANGE) {
+                rt_scene_errorf(p->err, p->errlen,
+                                "%s:%lu: element %s: count %.40s%s does not fit in 64 bits (at most %llu)", p->file,
+                                line, words[1], words[2], strlen(words[2]) > 40 ? "..." : "", ULLONG_MAX);
+                return false;
+            }
             if (nw != 3 || !end || *end || words[2][0] == '-') {
                 rt_scene_errorf(p->err, p->errlen,
                                 "%s:%lu: bad element line; expected 'element <name> <count>'",
@@ -670,7 +681,7 @@ bool rt_ply_load(const char *path, rt_mesh *out, char *err, size_t errlen)
 {
     size_t len;
     memset(out, 0, sizeof *out);
-    unsigned char *buf = rt_read_file_gz(path, &len, err, errlen);
+    unsigned char *buf = rt_read_file_gz(path, "mesh file", RT_MESH_MAX_BYTES, &len, err, errlen);
     if (!buf)
         return false;
     bool ok = rt_ply_parse(buf, len, path, out, err, errlen);

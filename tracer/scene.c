@@ -151,7 +151,7 @@ static bool load_geometry(const char *what, rt_scene *s, char *err, size_t errle
 static bool load_scene_file(const char *path, rt_scene *s, char *err, size_t errlen)
 {
     size_t len;
-    unsigned char *buf = rt_read_file_gz(path, &len, err, errlen);
+    unsigned char *buf = rt_read_file_gz(path, "scene file", RT_TEXT_MAX_BYTES, &len, err, errlen);
     if (!buf)
         return false;
     bool ok = false, have_mesh = false;

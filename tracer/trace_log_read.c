@@ -6,11 +6,13 @@
  * agree with the arithmetic, so a log applied to another image, or damaged
  * in a way the CRCs miss, is rejected, never misread. All reads are bounds-
  * checked: garbage yields a message, never a crash or a huge allocation. */
+#include <errno.h>
 #include <inttypes.h>
 #include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <zlib.h>
 
 #include "tracer/trace_log.h"
@@ -36,7 +38,7 @@ struct rt_tlog_reader {
     bool prev_complete;
     uint64_t off;          /* file offset of the next unread byte */
     int state;             /* 0 reading, 1 finished, -1 failed */
-    char msg[700];         /* the failure, repeated by later calls */
+    char msg[4096 + 512];  /* the failure, repeated by later calls: the whole path (PATH_MAX) and why */
     /* the current block */
     uint8_t *raw, *comp;
     size_t raw_cap, comp_cap, raw_len, pos;
@@ -100,7 +102,15 @@ rt_tlog_reader *rt_tlog_reader_open(const char *path, const rt_bvh_image *img, c
     r->tot.stream_hash = RT_TLOG_FNV_OFFSET;
     r->f = fopen(path, "rb");
     if (!r->f) {
-        snprintf(err, errlen, "%s: cannot open", path);
+        snprintf(err, errlen, "%s: cannot open: %s", path, strerror(errno));
+        rt_tlog_reader_close(r);
+        return NULL;
+    }
+    /* a folder opens like a file on Linux and reads as empty: it would be
+     * called a truncated log */
+    struct stat st;
+    if (fstat(fileno(r->f), &st) == 0 && S_ISDIR(st.st_mode)) {
+        snprintf(err, errlen, "%s: is a folder, not a trace log", path);
         rt_tlog_reader_close(r);
         return NULL;
     }
@@ -724,10 +734,15 @@ int rt_tlog_read_ray(rt_tlog_reader *r, rt_tlog_ray *out, rt_trv_event_fn fn, vo
     r->nev = 0;
     if (replay_ray(&rp, &o.ray, &o.hit, at, err, errlen) < 0) {
         /* name the ray in the message */
-        char tmp[640];
-        snprintf(tmp, sizeof tmp, "%.440s (ray %" PRIu64 ", pixel %u, bounce %u, block record %u)", r->msg, ray_id,
-                 o.ray.pixel, o.ray.bounce, r->block_rays - r->rays_left);
-        snprintf(r->msg, sizeof r->msg, "%s", tmp);
+        char tmp[sizeof r->msg];
+        const char *m = r->msg;
+        int n = snprintf(tmp, sizeof tmp, " (ray %" PRIu64 ", pixel %u, bounce %u, block record %u)", ray_id,
+                         o.ray.pixel, o.ray.bounce, r->block_rays - r->rays_left);
+        /* the ray goes after the message; a message too long to take it
+         * keeps its own text whole (the path in it is never cut) */
+        size_t used = strlen(m);
+        if (n > 0 && used + (size_t)n < sizeof r->msg)
+            memcpy(r->msg + used, tmp, (size_t)n + 1);
         snprintf(err, errlen, "%s", r->msg);
         return -1;
     }

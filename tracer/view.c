@@ -236,7 +236,7 @@ bool rt_views_load(const char *path, rt_views *out, char *err, size_t errlen)
     size_t len;
     out->v = NULL;
     out->n = 0;
-    unsigned char *buf = rt_read_file_gz(path, &len, err, errlen);
+    unsigned char *buf = rt_read_file_gz(path, "views file", RT_TEXT_MAX_BYTES, &len, err, errlen);
     if (!buf)
         return false;
     if (memchr(buf, 0, len)) {

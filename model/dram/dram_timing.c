@@ -56,7 +56,9 @@ static void fail(loader *L, const char *fmt, ...)
     va_end(ap);
 }
 
-/* Where an entry came from, for messages: "file:line" or "--set text". */
+/* Where an entry came from, for messages: "file:line" or "--set text"; a
+ * path is held whole (PATH_MAX and the line or the --set text). */
+#define DRAM_WHERE_MAX (4096 + 256)
 static const char *where(const loader *L, const entry *e, char *buf, size_t n)
 {
     if (e->line > 0)
@@ -189,7 +191,7 @@ static int parse_sum(expr *x, long *out)
 /* Evaluates e->value; on error reports it with the entry's location. */
 static int eval(loader *L, const dram_spec *spec, int nparams, const entry *e, long lo, long hi, long *out)
 {
-    char w[300];
+    char w[DRAM_WHERE_MAX];
     expr x = {.s = e->value, .spec = spec, .nparams = nparams, .msg = ""};
     if (parse_sum(&x, out) == 0) {
         skip_ws(&x);
@@ -367,7 +369,7 @@ static int apply_set(loader *L, const char *set, const char *origin)
     for (int i = 0; i < L->n && used + 40 < sizeof keys; i++)
         if (strcmp(L->e[i].section, section) == 0)
             used += (size_t)snprintf(keys + used, sizeof keys - used, "%s%s", used ? ", " : "", L->e[i].key);
-    char w[300];
+    char w[DRAM_WHERE_MAX];
     if (origin)
         snprintf(w, sizeof w, "%s", origin);
     else
@@ -428,7 +430,7 @@ int dram_spec_load_from(dram_spec *spec, const char *path, const char *const *se
         return -1;
     snprintf(spec->source, sizeof spec->source, "%s", path);
 
-    char w[300];
+    char w[DRAM_WHERE_MAX];
     /* pass 1: [timing] in file order (expressions see earlier names) */
     for (int i = 0; i < L.n; i++) {
         entry *e = &L.e[i];

@@ -46,7 +46,7 @@ typedef struct dram_constraint {
 } dram_constraint;
 
 typedef struct dram_spec {
-    char source[256];             /* file the spec was loaded from */
+    char source[4096];            /* file the spec was loaded from (PATH_MAX: whole, never cut) */
     /* [organization] */
     int channels, ranks, banks, rows, columns, dq_bits, prefetch;
     int tck_ps;                   /* clock period, picoseconds */

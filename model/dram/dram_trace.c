@@ -2,6 +2,7 @@
 #include "model/dram/dram_trace.h"
 
 #include <errno.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -56,9 +57,32 @@ uint64_t dram_spec_capacity_bytes(const dram_spec *spec)
 
 int dram_trace_next(dram_trace_reader *r, uint64_t *addr, int *w, char *err, size_t errlen)
 {
+    if (!r->buf) {
+        r->cap = DRAM_TRACE_MAX_LINE + 2;   /* a line, its '\n' and a NUL */
+        r->buf = malloc(r->cap);
+        if (!r->buf) {
+            snprintf(err, errlen, "%s: out of memory", r->name);
+            return -1;
+        }
+    }
     for (;;) {
         errno = 0;
-        ssize_t n = getline(&r->buf, &r->cap, r->f);
+        /* A bounded line: getline() would grow its buffer for as long as no
+         * newline comes, without end on /dev/zero or an endless stream. */
+        size_t len = 0;
+        int c = 0;
+        while (len < r->cap - 2 && (c = getc_unlocked(r->f)) != EOF) {
+            r->buf[len++] = (char)c;
+            if (c == '\n')
+                break;
+        }
+        r->buf[len] = 0;
+        if (len == r->cap - 2 && c != '\n' && (c = getc_unlocked(r->f)) != EOF && c != '\n') {
+            snprintf(err, errlen, "%s:%ld: line longer than %d characters (not a trace of '0x<hex address> R|W' lines)",
+                     r->name, r->line + 1, DRAM_TRACE_MAX_LINE);
+            return -1;
+        }
+        ssize_t n = len ? (ssize_t)len : -1;
         if (n < 0) {
             if (ferror(r->f)) {
                 /* a folder opens like a file and fails here (EISDIR): it was

@@ -38,6 +38,11 @@ void dram_trace_set_stop_check(int (*stop)(void));
 /* Bytes the device holds: channels x ranks x banks x rows x columns x dq_bits/8. */
 uint64_t dram_spec_capacity_bytes(const dram_spec *spec);
 
+/* The longest trace line read (characters before the newline): a request is
+ * at most 0x + 16 hex digits, blanks and R/W; a longer line is refused, so an
+ * input that never sends a newline (/dev/zero) is not read without end. */
+#define DRAM_TRACE_MAX_LINE 4096
+
 /* The trace reader both run loops share. Set f, name and capacity (0: no
  * check), the rest zero; free(buf) when done. */
 typedef struct dram_trace_reader {

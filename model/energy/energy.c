@@ -135,20 +135,22 @@ fail:
     return NULL;
 }
 
-static void data_path(const char *file, char *buf, size_t len)
+/* 0, or -1 when the path does not fit buf (refused, never cut) */
+static int data_path(const char *file, char *buf, size_t len)
 {
-    if (strchr(file, '/'))
-        snprintf(buf, len, "%s", file);
-    else
-        snprintf(buf, len, "%s/energy/%s", rtcfg_data_dir(), file);
+    int n = strchr(file, '/') ? snprintf(buf, len, "%s", file) : snprintf(buf, len, "%s/energy/%s", rtcfg_data_dir(), file);
+    return n < 0 || (size_t)n >= len ? -1 : 0;
 }
 
 energy_model *energy_model_create(const rtcfg *cfg, const energy_machine *m, char *err, size_t errlen)
 {
-    char sram[1024], fpu[1024], why[600];
+    char sram[RTCFG_PATH_MAX], fpu[RTCFG_PATH_MAX], why[RTCFG_MSG_MAX];
     const char *sf = rtcfg_str(cfg, "energy.sram_table"), *ff = rtcfg_str(cfg, "energy.fpu_table");
-    data_path(sf, sram, sizeof sram);
-    data_path(ff, fpu, sizeof fpu);
+    if (data_path(sf, sram, sizeof sram) || data_path(ff, fpu, sizeof fpu)) {
+        snprintf(err, errlen, "energy tables (energy.sram_table = %s, energy.fpu_table = %s): path longer than %d "
+                 "characters", sf, ff, RTCFG_PATH_MAX - 1);
+        return NULL;
+    }
     energy_table *t = malloc(sizeof *t);
     if (!t) {
         snprintf(err, errlen, "out of memory");

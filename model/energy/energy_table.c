@@ -111,6 +111,10 @@ static int fpu_handler(ini_file *f, void *user, const char *section, const char 
 int energy_table_load(energy_table *t, const char *sram_path, const char *fpu_path, char *err, size_t errlen)
 {
     memset(t, 0, sizeof *t);
+    if (strlen(sram_path) >= sizeof t->sram_path || strlen(fpu_path) >= sizeof t->fpu_path) {
+        snprintf(err, errlen, "%s, %s: path longer than %zu characters", sram_path, fpu_path, sizeof t->sram_path - 1);
+        return -1;
+    }
     snprintf(t->sram_path, sizeof t->sram_path, "%s", sram_path);
     snprintf(t->fpu_path, sizeof t->fpu_path, "%s", fpu_path);
     loader L = {.t = t};
@@ -242,7 +246,7 @@ int energy_sram_figure(const energy_table *t, const energy_sram_req *req, energy
 {
     if (!(req->kind == ENERGY_CACHE && req->node_word))
         return figure_of_row_line(t, req, out, err, errlen);
-    char why[1024];
+    char why[4096 + 1024];   /* names the table's file: a whole path (PATH_MAX) and the reason */
     if (figure_of_row_line(t, req, out, why, sizeof why) == 0)
         return 0;
     /* the line widths of the candidate rows, ascending, that cover this size */

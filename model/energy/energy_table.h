@@ -67,7 +67,7 @@ typedef struct energy_table {
     int nrows;
     energy_multiport mp;
     energy_fpu fpu;
-    char sram_path[512], fpu_path[512];
+    char sram_path[4096], fpu_path[4096];   /* PATH_MAX: the whole path, for messages */
 } energy_table;
 
 /* A structure to be given a figure. ways is ignored for RAMs. */

@@ -154,7 +154,7 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
             goto fail;
         fixed_mem_connect(ms->fmem, mem_req_f, mem_resp_f);
     } else {
-        char path[1024], why[400];
+        char path[RTCFG_PATH_MAX], why[RTCFG_MSG_MAX];
         /* the standard file with the [dram] keys of the configuration (memsys_config.h) */
         ms->spec = calloc(1, sizeof *ms->spec);
         if (!ms->spec) {
@@ -165,8 +165,12 @@ memsys *memsys_build(ks_sim *sim, ks_clock *clk, const rtcfg *cfg, int ntrv, ks_
             goto fail;
         const char *pfile = rtcfg_str(cfg, "memory.dram_power");
         if (*pfile) {
-            snprintf(path, sizeof path, "%s%s%s", strchr(pfile, '/') ? "" : rtcfg_data_dir(),
-                     strchr(pfile, '/') ? "" : "/", pfile);
+            if (snprintf(path, sizeof path, "%s%s%s", strchr(pfile, '/') ? "" : rtcfg_data_dir(),
+                         strchr(pfile, '/') ? "" : "/", pfile) >= (int)sizeof path) {
+                snprintf(err, errlen, "memory.dram_power = %s: path longer than %d characters", pfile,
+                         RTCFG_PATH_MAX - 1);
+                goto fail;
+            }
             ms->power = calloc(1, sizeof *ms->power);
             if (!ms->power || dram_power_spec_load(ms->power, path, why, sizeof why)) {
                 snprintf(err, errlen, "memory.dram_power = %s: %s", pfile, ms->power ? why : "out of memory");

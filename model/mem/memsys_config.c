@@ -118,13 +118,14 @@ static int check_dram(const rtcfg *cfg, char *err, size_t errlen);
 static int register_dram(rtcfg *cfg, void *user, char *err, size_t errlen)
 {
     (void)user;
-    char path[1100], why[600];
+    char path[RTCFG_PATH_MAX], why[RTCFG_MSG_MAX];
     const char *file = rtcfg_str(cfg, "memory.dram_config");
     bool needed = rtcfg_enum(cfg, "memory.model") == MEMSYS_LPDDR3;
     if (memsys_dram_path(cfg, path, sizeof path)) {
         if (!needed)
             return 0;
-        return rtcfg_errorf(err, errlen, "memory.dram_config = %.64s...: path too long", file);
+        return rtcfg_errorf(err, errlen, "memory.dram_config = %s: path longer than %d characters", file,
+                            RTCFG_PATH_MAX - 1);
     }
     dram_schema_block *b = calloc(1, sizeof *b);
     if (!b)
@@ -142,10 +143,11 @@ static int register_dram(rtcfg *cfg, void *user, char *err, size_t errlen)
 
 int memsys_dram_spec_load(const rtcfg *cfg, dram_spec *spec, char *err, size_t errlen)
 {
-    char path[1100];
+    char path[RTCFG_PATH_MAX];
     const char *file = rtcfg_str(cfg, "memory.dram_config");
     if (memsys_dram_path(cfg, path, sizeof path))
-        return rtcfg_errorf(err, errlen, "memory.dram_config = %.64s...: path too long", file);
+        return rtcfg_errorf(err, errlen, "memory.dram_config = %s: path longer than %d characters", file,
+                            RTCFG_PATH_MAX - 1);
     const rtcfg_schema *ds = NULL;
     for (int i = 0; i < rtcfg_schema_count(cfg); i++)
         if (strcmp(rtcfg_schema_at(cfg, i)->section, "dram") == 0)
@@ -174,7 +176,7 @@ int memsys_dram_spec_load(const rtcfg *cfg, dram_spec *spec, char *err, size_t e
             n++;
         }
     }
-    char why[800];
+    char why[RTCFG_MSG_MAX];
     int rc = dram_spec_load_from(spec, path, sets, origins, n, why, sizeof why);
     if (rc)
         rtcfg_errorf(err, errlen, "memory.dram_config = %s: %s", file, why);

@@ -1,11 +1,11 @@
 #!/usr/bin/env bash
-# Accelerator model speed (issue 5): simulated cycles and rays per host second
+# Accelerator model speed (docs/accel.md "Speed"): simulated cycles and rays per host second
 # of the full model (scheduler, 4 TRVs, IST, node L1s, L2, primitive cache,
 # LPDDR3) on the built-in interior scene, BVH2 and MBVH4, primary and diffuse,
 # VCD off and on, and diffuse with the fixed-latency memory fidelity. Host time is the run alone (rtsim's "host" line: no scene
 # loading or BVH build), median of RUNS (5) runs, one core.
 #   bash bench/accel.sh [BUILD_DIR]
-# Targets (issue 5): >= 2 M simulated cycles per host second with VCD
+# Targets (docs/accel.md "Speed"): >= 2 M simulated cycles per host second with VCD
 # off; VCD on at most 3x slower; --series at most 5% slower (20% with 10x
 # finer rows). The CSV's reference_median_s is the target time (cycles / 2e6
 # s, 3 x the VCD-off median, or 1.05 / 1.2 x the median without --series),

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # DRAM model speed: requests simulated per host second by the standalone driver
-# rtdram on the reference traces (issue 4, "make bench").
+# rtdram on the reference traces ("make bench", docs/dram.md).
 #   bash bench/dram.sh [BUILD_DIR]        (RUNS=5 runs per trace by default)
 # Traces: a_seq and b_rand64 of ../shared/ref/dram/gen_traces.py, config A
 # (il32: 2,000,000 requests of 32 B each), generated into BUILD_DIR/bench/traces
@@ -11,7 +11,7 @@
 # idle machine the two agree; under contention wall time measures the neighbours.
 # The wall-time median is printed as well.
 # Reference: Ramulator v1 is not installable here, so its time is DERIVED from the
-# throughput the issue states for this machine (bench/dram_reference.csv):
+# throughput given with the DRAM model's requirements for this machine (bench/dram_reference.csv):
 # reference_median_s = requests / stated requests_per_s -- not measured here.
 # Writes BUILD_DIR/bench/dram.csv: benchmark,ours_median_s,reference_median_s,ratio
 # (ratio = reference/ours, > 1 means faster than the reference). The kernel-module

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Kernel speed against SystemC 2.3.4 (issue 2; docs/kernel.md "Benchmarks").
+# Kernel speed against SystemC 2.3.4 (docs/kernel.md "Benchmarks").
 #   bash bench/kernel.sh [BUILD_DIR]
 # Runs each workload with our kernel (bench/kernel_ours.c) and with SystemC
 # (bench/kernel_systemc.cpp) alternately, RUNS times each (default 5), and

@@ -1,5 +1,5 @@
-/* rtsim_estimate.h — rtsim's run-time estimate (issue 15: "runs that would
- * take hours say so before they start"): rays, simulated cycles and host
+/* rtsim_estimate.h — rtsim's run-time estimate (runs that would
+ * take hours say so before they start): rays, simulated cycles and host
  * time for the chosen fidelity, from a sample of the frame traced with the
  * reference traversal and the figures of model/data/estimate.ini (the
  * formula and its calibration are there and in docs/accel.md).

@@ -129,7 +129,7 @@ static int parse_options(int argc, char **argv, options *o)
         {.name = "check-embree", .kind = CLI_FLAG, .to.flag = &o->check_embree,
          .help = "compare every ray's closest hit (occlusion rays: occluded or\n"
                  "not, rtcOccluded1) with Embree 3"},
-        /* Issue 3: at least 99.999% of rays identical to Embree on the built-ins. */
+        /* The tracer's target (docs/tracer-bvh.md): at least 99.999% of rays identical to Embree on the built-ins. */
         {.name = "max-mismatch-rate", .kind = CLI_REAL, .to.real = &o->max_mismatch_rate, .arg = "R", .lo = 0, .hi = 1,
          .def = "1e-05",
          .help = "fraction of rays with an explained difference from Embree (tie,\n"

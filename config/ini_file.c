@@ -169,7 +169,7 @@ int ini_file_read(const char *path, const ini_file_opts *opts, ini_file_fn fn, v
         return -1;
     }
     /* a folder opens like a file on Linux and reads as empty, which passed for
-     * an empty file (issue 15) */
+     * an empty file */
     struct stat st;
     if (fstat(fileno(f.f), &st) == 0 && S_ISDIR(st.st_mode)) {
         fclose(f.f);

@@ -1,2 +1,2 @@
-# DRAM model (issue 4): rtdram finds its default parameter files in model/data
+# DRAM model (docs/dram.md): rtdram finds its default parameter files in model/data
 $(BUILD)/obj/cli/rtdram.c.o: CPPFLAGS += -DRTSIM_DATA_DIR='"$(CURDIR)/model/data"'

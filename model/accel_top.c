@@ -383,7 +383,7 @@ static uint64_t ceil_div(uint64_t a, uint64_t b) { return b ? (a + b - 1) / b : 
  * constraint, per burst, plus postponed refreshes), doubled. Only a failed
  * run waits this long, so a loose bound costs nothing but time before a
  * real livelock is reported; one too tight turns a valid run into a false
- * failure (issue 15). */
+ * failure. */
 static uint64_t longest_wait_of(const rtcfg *cfg, const accel_params *p, const memsys *mem, uint32_t ist_pipe)
 {
     double period_ps = 1e6 / p->clock_mhz;
@@ -980,8 +980,8 @@ int accel_top_autosize(const accel_top *t, rtcfg *cfg, char *err, size_t errlen)
 {
     /* ray side: the largest suggestion among the FIFOs of each key, but
      * never below the deadlock-free minimum (accel_config.h): what one frame
-     * needed says nothing about a larger one (issue 15: a machine sized on
-     * 8x4 deadlocked at 64x36) */
+     * needed says nothing about a larger one (a machine sized on 8x4 once
+     * deadlocked at 64x36) */
     for (int r = 0; r < ACCEL_FIFO_COUNT; r++) {
         uint32_t want = accel_fifo_min(cfg, (accel_fifo_id)r);
         for (uint32_t i = 0; i < ray_fifo_instances(t, &accel_ray_fifos[r]); i++)

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# BVH2 vs MBVH4 on scenes and ray types (issue 5, paper Table 2's directions):
+# BVH2 vs MBVH4 on scenes and ray types (paper Table 2's directions):
 # MRPS, DRAM traffic, cache hit rates, from rtsim's JSON statistics.
 #   scripts/accel_table.sh [BUILD_DIR] [RES] [SCENE...]
 # Defaults: build, 1280x720, the four built-in scenes; RAYS="primary" limits the ray types. Prints a Markdown table

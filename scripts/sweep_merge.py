@@ -11,7 +11,7 @@ whatever order they ran in. Then draws, with gnuplot, each figure of merit
 against each swept (--set-grid) key: DIR/charts/FIGURE-vs-KEY.png and .svg.
 
 Figures of merit are those the JSON has: MRPS and DRAM MB always; mJ/frame,
-MRPS/mm2, area and power once rtsim reports them (issue 13's energy model);
+MRPS/mm2, area and power once rtsim reports them (the energy model, docs/energy.md);
 the missing ones are named, not charted. Exit status: 0 when every point has
 a result, 1 when some have none (the CSV then holds the finished ones), 2 on
 bad input (no jobs.tsv).

@@ -1,5 +1,5 @@
 /* tb_accel_random_configs.c — property test of the machine validator and
- * the model (issue 15): "every configuration the validator accepts runs".
+ * the model: "every configuration the validator accepts runs".
  *
  * A deterministic generator (splitmix64, seed RTSIM_CONFIG_SEED, default 1)
  * draws machine configurations with every registered configuration key

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# tb_accel_reliability — rtsim's model-side reliability (issue 15), one case
-# per example of the issue: valid runs are not reported as failures
+# tb_accel_reliability — rtsim's model-side reliability (docs/accel.md,
+# "Machines that cannot run"), one case per failure example there: valid
+# runs are not reported as failures
 # (deadlock bound derived from sched.shade_latency, watchdog counting node
 # visits and triangle tests, FIFO auto-sizing above the deadlock-free
 # minima, the livelock guard), machines that cannot run are refused at

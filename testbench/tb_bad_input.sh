@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # tb_bad_input — the table-driven bad-input test of rtsim, rttrace and rtdram
-# (issue 15): every row of testbench/bad_input.tsv runs one command in a
+# (docs/kernel.md, "Outputs and interruption"): every row of testbench/bad_input.tsv runs one command in a
 # fresh folder and checks
 #   - the exit status and a fixed string of the message (stdout+stderr),
 #   - that no output file is left behind that looks valid: every new file

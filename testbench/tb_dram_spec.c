@@ -127,7 +127,7 @@ int main(void)
     expect_error("dram_spec_set_channels_range", "organization.channels=99", "channels", "allowed 1..16");
     expect_error("dram_spec_set_bad_expression", "timing.nCL=12+", "nCL", "expected a number");
     expect_error("dram_spec_set_negative_timing", "timing.nRCD=-3", "nRCD", "allowed 1..");
-    /* JEDEC latencies are at least one clock (issue 15: nCL=0, nBL=0 were accepted) */
+    /* JEDEC latencies are at least one clock (nCL=0, nBL=0 were once accepted) */
     expect_error("dram_spec_set_zero_cl", "timing.nCL=0", "nCL", "allowed 1..");
     expect_error("dram_spec_set_zero_bl", "timing.nBL=0", "nBL", "allowed 1..");
     expect_error("dram_spec_set_no_equals", "timing.nCL", "expected section.key=value", NULL);

@@ -240,7 +240,7 @@ static const known known_keys[] = {
 
 /* [timing] names of JEDEC latencies (JESD209-3 LPDDR3, Ramulator's LPDDR3.h
  * speed table): each is a positive number of clocks, so 0 is refused (nCL
- * or nBL = 0 ran as if data took no time; issue 15). Other names (nDQSCK,
+ * or nBL = 0 once ran as if data took no time). Other names (nDQSCK,
  * user-defined helpers) may be 0. */
 static int is_jedec_latency(const char *name)
 {

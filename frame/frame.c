@@ -167,7 +167,7 @@ bool rtsim_frame_occlusion(rtsim_frame *f, const rt_bvh_image *img, uint32_t sam
     f->occ_n = 0;
     for (uint32_t k = 0; k < n; k++) {   /* the hit pixels in the frame's pixel order */
         const uint32_t p = rtsim_frame_pixel(f, k);
-        const rt_ray prim = rt_camera_primary_ray(&f->cam, p % f->cam.width, p / f->cam.width);
+        const rt_ray prim = rtsim_frame_camera_ray(f, k);
         rt_hit h;
         rt_ray probe;
         if (!rt_trace_ray(img, &tp, &prim, &h, NULL, NULL, NULL)) {

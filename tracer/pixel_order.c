@@ -4,15 +4,24 @@
 #include <stdio.h>
 #include <stdlib.h>
 
-/* The even bits of v packed into 16 bits (x of a Morton code; y from v >> 1). */
-static uint32_t pack_bits(uint32_t v)
+/* Appends, in Z order, the pixels of the size x size square at (x0, y0)
+ * that lie in the image: quadrants in the order (x0, y0), (x0 + h, y0),
+ * (x0, y0 + h), (x0 + h, y0 + h) -- x in the low bit of the Morton code.
+ * Quadrants outside the image are skipped whole, so the work is bounded by
+ * the pixels, not by the power-of-two square around the image. */
+static void morton_fill(uint32_t x0, uint32_t y0, uint32_t size, uint32_t w, uint32_t h, uint32_t *o, uint64_t *k)
 {
-    v &= 0x55555555u;
-    v = (v | (v >> 1)) & 0x33333333u;
-    v = (v | (v >> 2)) & 0x0f0f0f0fu;
-    v = (v | (v >> 4)) & 0x00ff00ffu;
-    v = (v | (v >> 8)) & 0x0000ffffu;
-    return v;
+    if (x0 >= w || y0 >= h)
+        return;
+    if (size == 1) {
+        o[(*k)++] = y0 * w + x0;
+        return;
+    }
+    const uint32_t half = size / 2;
+    morton_fill(x0, y0, half, w, h, o, k);
+    morton_fill(x0 + half, y0, half, w, h, o, k);
+    morton_fill(x0, y0 + half, half, w, h, o, k);
+    morton_fill(x0 + half, y0 + half, half, w, h, o, k);
 }
 
 bool rt_pixel_order_make(rt_pixel_order_kind kind, uint32_t tile, uint32_t width, uint32_t height, uint32_t **out,
@@ -50,17 +59,12 @@ bool rt_pixel_order_make(rt_pixel_order_kind kind, uint32_t tile, uint32_t width
                         o[k++] = y * width + x;
             }
     } else {
-        /* Z order over the smallest power-of-two square holding the image;
-         * codes outside the image are skipped */
+        /* Z order over the smallest power-of-two square holding the image
+         * (depth at most 17 for 65535 pixels a side) */
         uint32_t side = 1;
         while (side < width || side < height)
             side <<= 1;
-        const uint64_t codes = (uint64_t)side * side;
-        for (uint64_t c = 0; c < codes && k < n; c++) {
-            const uint32_t x = pack_bits((uint32_t)c), y = pack_bits((uint32_t)(c >> 1));
-            if (x < width && y < height)
-                o[k++] = y * width + x;
-        }
+        morton_fill(0, 0, side, width, height, o, &k);
     }
     *out = o;
     return true;

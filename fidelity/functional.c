@@ -9,7 +9,7 @@
 #include "fidelity/fidelity_params.h"
 #include "model/dram/dram_addrmap.h"
 #include "model/mem/memsys_config.h"
-#include "model/ray/sort_net.h"
+#include "model/accel_config.h"
 #include "tracer/traverse.h"
 
 /* One memory access of a ray: a node (L1 of its TRV) or a triangle (prim). */
@@ -179,12 +179,9 @@ static void throughput(const fid_job *job, fid_func *o)
 {
     const rtcfg *cfg = job->cfg;
     const fid_params *fp = fid_params_get();
-    int width = (int)rtcfg_int(cfg, "machine.branching");
     double clock = rtcfg_real(cfg, "machine.clock_mhz");
     double fifo_lat = (double)rtcfg_int(cfg, "fifo.ray_latency");
-    double trv_depth = (double)rtcfg_int(cfg, "node_l1.hit_latency") + (double)rtcfg_int(cfg, "trv.stages_box") +
-                       sort_net_get(width)->layers + (double)rtcfg_int(cfg, "trv.stages_stack") +
-                       (double)rtcfg_int(cfg, "trv.stages_next");
+    double trv_depth = (double)accel_trv_depth_of(cfg);
     double trv_period = trv_depth + fifo_lat;   /* a looping ray's round trip */
     double ist_period = (double)rtcfg_int(cfg, "prim.hit_latency") + (double)rtcfg_int(cfg, "ist.latency") +
                         fp->ist_loop_extra;

@@ -106,10 +106,17 @@ void accel_params_get(const rtcfg *cfg, accel_params *o)
 
 uint32_t accel_trv_depth_of(const rtcfg *cfg)
 {
-    const sort_net *net = sort_net_get((int)rtcfg_int(cfg, "machine.branching"));
-    uint32_t fetch = rtcfg_has(cfg, "node_l1.hit_latency") ? (uint32_t)rtcfg_int(cfg, "node_l1.hit_latency") : 1;
-    return fetch + (uint32_t)rtcfg_int(cfg, "trv.stages_box") + (net ? (uint32_t)net->layers : 0) +
-           (uint32_t)rtcfg_int(cfg, "trv.stages_stack") + (uint32_t)rtcfg_int(cfg, "trv.stages_next");
+    /* The unit's own formula (trv_pipeline_depth), on the stages the
+     * configuration gives; the fetch stages are the node L1 access, as in
+     * accel_params_get. */
+    trv_params p;
+    memset(&p, 0, sizeof p);
+    p.core.width = (int)rtcfg_int(cfg, "machine.branching");
+    p.stages_fetch = rtcfg_has(cfg, "node_l1.hit_latency") ? (uint32_t)rtcfg_int(cfg, "node_l1.hit_latency") : 1;
+    p.stages_box = (uint32_t)rtcfg_int(cfg, "trv.stages_box");
+    p.stages_stack = (uint32_t)rtcfg_int(cfg, "trv.stages_stack");
+    p.stages_next = (uint32_t)rtcfg_int(cfg, "trv.stages_next");
+    return trv_pipeline_depth(&p);
 }
 
 static uint32_t trv_loop_min(const rtcfg *cfg)

@@ -9,7 +9,9 @@
 #                              tracer's node/triangle layout)
 #   config/  -> libconfig.a   (the typed, ranged configuration store)
 #   cli/     -> one binary per cli/<name>.c in $(BUILD)/bin
-#   testbench/tb_*.c -> one test program each; testbench/tb_*.sh run as scripts
+#   testbench/ mirrors the source tree (testbench/kernel/, testbench/model/ray/,
+#   ...): every tb_*.c below it -> one test program $(BUILD)/testbench/tb_*;
+#   every tb_*.sh below it runs as a script (testbench/run.sh)
 # Per-area extras (link flags, bench targets) live in mk/*.mk.
 
 BUILD    ?= build
@@ -49,8 +51,10 @@ LINK_LIBS = $(LIB_FILES) $(EXTRA_LDLIBS) $(LDLIBS)
 
 CLI_SRCS := $(sort $(wildcard cli/*.c))
 CLI_BINS := $(patsubst cli/%.c,$(BUILD)/bin/%,$(CLI_SRCS))
-TB_SRCS  := $(sort $(wildcard testbench/tb_*.c))
-TB_BINS  := $(patsubst testbench/%.c,$(BUILD)/testbench/%,$(TB_SRCS))
+TB_SRCS  := $(sort $(shell find testbench -name 'tb_*.c'))
+# Test programs are flat in $(BUILD)/testbench whatever folder holds their
+# source: a test's name is unique across the tree.
+TB_BINS  := $(patsubst %.c,$(BUILD)/testbench/%,$(notdir $(TB_SRCS)))
 
 .PHONY: all asan test run bench deps clean
 .DEFAULT_GOAL := all
@@ -81,7 +85,8 @@ $(BUILD)/obj/%.cpp.o: %.cpp
 $(BUILD)/bin/%: $(BUILD)/obj/cli/%.c.o $(LIB_FILES)
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $< $(LINK_LIBS) -o $@
-$(BUILD)/testbench/%: $(BUILD)/obj/testbench/%.c.o $(LIB_FILES)
+$(foreach t,$(TB_SRCS),$(eval $(BUILD)/testbench/$(basename $(notdir $(t))): $(BUILD)/obj/$(t).o $(LIB_FILES)))
+$(TB_BINS):
 	@mkdir -p $(@D)
 	$(CXX) $(LDFLAGS) $< $(LINK_LIBS) -o $@
 

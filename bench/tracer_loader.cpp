@@ -1,4 +1,4 @@
-// tracer_loader.cpp — scene loading speed: our OBJ/PLY readers (tracer/scene.h)
+// tracer_loader.cpp — scene loading speed: our OBJ/PLY readers (tracer/io/scene.h)
 // against Assimp (the reference) on the same uncompressed file.
 //
 //   tracer_loader FILE [RUNS]        prints "ours_median_s ref_median_s tris_ours tris_ref"
@@ -18,7 +18,7 @@
 #include <cstring>
 #include <vector>
 
-#include "tracer/scene.h"
+#include "tracer/io/scene.h"
 
 static double now_s()
 {

@@ -6,7 +6,7 @@
  * Builds our BVH (width N, default 4) and Embree's scene (default flags: its
  * fast mode, as shipped) RUNS times each (default 5), then traces the view's
  * primary rays and the diffuse bounce rays that follow them (4 bounces, seed 1,
- * tracer/ray_set.h) RUNS times with each. stdout, one line per measurement:
+ * tracer/trace/ray_set.h) RUNS times with each. stdout, one line per measurement:
  *   <what> <ours_median_s> <embree_median_s> <rays>
  * for what = build, primary, diffuse. --check also prints the Embree (robust)
  * comparison tally on stderr. Exit 2 on bad usage/input. */
@@ -15,12 +15,12 @@
 #include <string.h>
 #include <time.h>
 
-#include "tracer/bvh.h"
-#include "tracer/camera.h"
-#include "tracer/embree_check.h"
-#include "tracer/ray_set.h"
-#include "tracer/scene.h"
-#include "tracer/traverse.h"
+#include "tracer/bvh/bvh.h"
+#include "tracer/trace/camera.h"
+#include "tracer/check/embree_check.h"
+#include "tracer/trace/ray_set.h"
+#include "tracer/io/scene.h"
+#include "tracer/trace/traverse.h"
 
 /* CPU time of the process: both sides are single-threaded, so on an idle
  * machine this equals wall time, and on a shared one it is not inflated by

@@ -25,9 +25,9 @@
 #include "model/accel_top.h"
 #include "config/config.h"
 #include "model/mem/memsys_config.h"
-#include "tracer/bvh.h"
-#include "tracer/image.h"
-#include "tracer/scene.h"
+#include "tracer/bvh/bvh.h"
+#include "tracer/io/image.h"
+#include "tracer/io/scene.h"
 
 #include "cli/options.h"
 #include "cli/output_path.h"

@@ -20,8 +20,8 @@
 #include "frame/frame.h"
 #include "config/config.h"
 #include "config/ini_file.h"
-#include "tracer/bounce.h"
-#include "tracer/traverse.h"
+#include "tracer/trace/bounce.h"
+#include "tracer/trace/traverse.h"
 
 typedef struct rtsim_estimate_params {
     double sample_pixels, overhead, primary_mcps, diffuse_mcps, exhaustive_factor, announce_s, progress_s;

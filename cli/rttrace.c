@@ -1,8 +1,8 @@
 /* rttrace — the software ray tracer's command-line tool (docs/design.md
  * "Command-line conventions"): loads a scene, builds the BVH, traces a view's
  * primary rays, diffuse paths or the ambient-occlusion rays of the primary
- * hits (any-hit, tracer/occlusion.h) with the reference traversal (the hardware's
- * algorithm, tracer/traverse.h), optionally compares every ray with Embree,
+ * hits (any-hit, tracer/trace/occlusion.h) with the reference traversal (the hardware's
+ * algorithm, tracer/trace/traverse.h), optionally compares every ray with Embree,
  * and writes the trace log, the shaded frame, per-pixel heatmaps of node
  * visits and triangle tests, and statistics (--json).
  *   rttrace SCENE [options]            trace (see usage())
@@ -25,17 +25,17 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "tracer/bounce.h"
-#include "tracer/bvh.h"
-#include "tracer/camera.h"
-#include "tracer/embree_check.h"
-#include "tracer/image.h"
-#include "tracer/mesh.h"
-#include "tracer/occlusion.h"
-#include "tracer/scene.h"
-#include "tracer/shade.h"
-#include "tracer/trace_log.h"
-#include "tracer/traverse.h"
+#include "tracer/trace/bounce.h"
+#include "tracer/bvh/bvh.h"
+#include "tracer/trace/camera.h"
+#include "tracer/check/embree_check.h"
+#include "tracer/io/image.h"
+#include "tracer/io/mesh.h"
+#include "tracer/trace/occlusion.h"
+#include "tracer/io/scene.h"
+#include "tracer/trace/shade.h"
+#include "tracer/log/trace_log.h"
+#include "tracer/trace/traverse.h"
 
 #include "cli/options.h"
 #include "cli/output_path.h"
@@ -65,7 +65,7 @@ typedef struct options {
 
 enum { RAYS_PRIMARY, RAYS_DIFFUSE, RAYS_OCCLUSION };
 static const char *const ray_kinds[] = {"primary", "diffuse", "occlusion", NULL};
-/* --builder, in rt_build_kind order (tracer/bvh.h) */
+/* --builder, in rt_build_kind order (tracer/bvh/bvh.h) */
 static const char *const builder_kinds[] = {"collapse", "wald", NULL};
 
 /* --bvh: bvh2 or mbvhN, N = 2..8 (the width) */
@@ -84,7 +84,7 @@ static bool parse_bvh(const char *text, void *to, char *err, size_t errlen)
     return false;
 }
 
-/* --res: WxH (tracer/camera.h) */
+/* --res: WxH (tracer/trace/camera.h) */
 static bool parse_res(const char *text, void *to, char *err, size_t errlen)
 {
     struct resolution *r = to;

@@ -12,7 +12,7 @@
  *    given" and are written as null).
  *  - Hashes are FNV-1a 64 (offset basis 14695981039346656037, prime
  *    1099511628211), written as 16 lower-case hex digits. The mesh hash is
- *    rt_mesh_hash (tracer/mesh.h: counts, vertex bits, indices as loaded).
+ *    rt_mesh_hash (tracer/io/mesh.h: counts, vertex bits, indices as loaded).
  *    The configuration hash is over the configuration's canonical lines
  *    "key=value\n", sorted by key (byte order): cli_run_config_hash() for an
  *    rtcfg (every registered key, [dram] included; integers in decimal,

@@ -36,8 +36,8 @@
 #include "kernel/stats.h"
 #include "model/accel_top.h"
 #include "config/config.h"
-#include "tracer/bvh.h"
-#include "tracer/scene.h"
+#include "tracer/bvh/bvh.h"
+#include "tracer/io/scene.h"
 
 typedef enum fid_level { FID_FULL, FID_FIXED_MEM, FID_FUNCTIONAL, FID_SAMPLED, FID_WINDOWED, FID_LEVEL_COUNT } fid_level;
 

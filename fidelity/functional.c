@@ -10,7 +10,7 @@
 #include "model/dram/dram_addrmap.h"
 #include "model/mem/memsys_config.h"
 #include "model/accel_config.h"
-#include "tracer/traverse.h"
+#include "tracer/trace/traverse.h"
 
 /* One memory access of a ray: a node (L1 of its TRV) or a triangle (prim). */
 typedef struct fn_access {

@@ -1,5 +1,5 @@
 /* functional.h — the functional level: every ray of a frame (or of a pixel
- * subset) traced by the reference traversal (tracer/traverse.h), its node and
+ * subset) traced by the reference traversal (tracer/trace/traverse.h), its node and
  * triangle fetches sent through the model's cache core (model/mem/cache_core.h: node
  * L1 per TRV, shared node L2, primitive cache) in a plausible order, and
  * cycles from a throughput model (docs/fidelity.md "functional").

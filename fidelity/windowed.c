@@ -11,9 +11,9 @@
 #include "fidelity/subset.h"
 #include "kernel/fork_pool.h"
 #include "model/ray/accel_ray.h"
-#include "tracer/bounce.h"
-#include "tracer/camera.h"
-#include "tracer/traverse.h"
+#include "tracer/trace/bounce.h"
+#include "tracer/trace/camera.h"
+#include "tracer/trace/traverse.h"
 
 double fid_t95(int dof)
 {

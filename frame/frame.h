@@ -6,7 +6,7 @@
  * Contract: rtsim_frame_init() loads nothing itself; it takes a loaded scene
  * and a built BVH image and a camera, and provides
  *   - primary rays in the machine's pixel order (sched.pixel_order and
- *     sched.tile, tracer/pixel_order.h): primary ray k is the camera ray of
+ *     sched.tile, tracer/trace/pixel_order.h): primary ray k is the camera ray of
  *     pixel rtsim_frame_pixel(f, k); everything that counts rays "in order"
  *     (the fidelity levels' bands, windows and lattices) counts these k;
  *   - for diffuse runs the bounce ray of each completed ray (bounce.h, the
@@ -33,14 +33,14 @@
 #include "model/accel_config.h"
 #include "model/ray/accel_ray.h"
 #include "model/ray/scheduler.h"
-#include "tracer/bounce.h"
-#include "tracer/bvh.h"
-#include "tracer/camera.h"
-#include "tracer/occlusion.h"
-#include "tracer/pixel_order.h"
-#include "tracer/ray.h"
-#include "tracer/scene.h"
-#include "tracer/traverse.h"
+#include "tracer/trace/bounce.h"
+#include "tracer/bvh/bvh.h"
+#include "tracer/trace/camera.h"
+#include "tracer/trace/occlusion.h"
+#include "tracer/trace/pixel_order.h"
+#include "tracer/trace/ray.h"
+#include "tracer/io/scene.h"
+#include "tracer/trace/traverse.h"
 
 typedef void (*rtsim_complete_hook)(void *user, uint32_t uid, const rt_ray *ray, const rt_hit *hit, uint64_t admit,
                                     uint64_t done, bool failed);

@@ -305,7 +305,7 @@ const char *ks_out_stage(ks_out *o, char *err, size_t errlen)
         close(fd);
         o->tmp_live = 1;
     }
-    /* the trace-log writer (tracer/trace_log_write.c) writes "NAME.tmp.PID" itself */
+    /* the trace-log writer (tracer/log/trace_log_write.c) writes "NAME.tmp.PID" itself */
     char suffix[32];
     snprintf(suffix, sizeof suffix, ".tmp.%ld", (long)getpid());
     join(o->inner, sizeof o->inner, o->tmp, suffix);

@@ -1,5 +1,5 @@
 # `make soak`: the long run of the random-configuration property test
-# (testbench/tb_accel_random_configs.c): SOAK_CONFIGS machine
+# (testbench/model/tb_accel_random_configs.c): SOAK_CONFIGS machine
 # configurations drawn with seed SOAK_SEED, each run with primary and with
 # diffuse rays; every run must finish with hits equal to the reference
 # traversal or be refused at start-up naming a key. `make test` runs the

@@ -9,7 +9,7 @@
 
 #include "model/mem/memsys_config.h"
 #include "model/ray/sort_net.h"
-#include "tracer/bvh_layout.h"
+#include "tracer/bvh/bvh_layout.h"
 
 #define FIFO_PARAM(name, desc) {name, RTCFG_INT, "32", 1, 65536, 0, NULL, "entries", desc}
 static const rtcfg_param fifo_params_tab[] = {
@@ -24,7 +24,7 @@ static const rtcfg_param fifo_params_tab[] = {
 static int check_ray_side(const rtcfg *cfg, char *err, size_t errlen);
 const rtcfg_schema accel_schema_fifo = {"fifo", "ray-side FIFOs", fifo_params_tab, 7, check_ray_side};
 
-/* The BVH the machine walks: built on the host by the tracer (tracer/bvh.h),
+/* The BVH the machine walks: built on the host by the tracer (tracer/bvh/bvh.h),
  * whose builder the paper names but whose parameters it leaves open (sec.
  * 3.2: "BVH trees are constructed with a binned SAH sweep, and MBVHs with
  * Wald's top-down recursive splitting algorithm"). frame/frame.h

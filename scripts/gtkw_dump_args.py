@@ -6,7 +6,7 @@ GTKWave view's header comment (waveforms/*.gtkw):
     [*]       --vcd-window 0:5000 --vcd-filter 'trv0.*,ist.*,sched.*'
     [*] then: gtkwave waveforms/rtsim.vcd waveforms/trv_pipeline.gtkw
 
-so that the view's test (testbench/tb_waveform_views.sh) and its screenshot
+so that the view's test (testbench/scripts/tb_waveform_views.sh) and its screenshot
 (scripts/render-waveform-views.sh) make the very dump the view documents.
 Usage: gtkw_dump_args.py VIEW.gtkw. Exit 2 when the header holds no
 "build/bin/rtsim ..." command."""

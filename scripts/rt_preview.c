@@ -16,11 +16,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "tracer/bounce.h"
-#include "tracer/camera.h"
-#include "tracer/image.h"
-#include "tracer/scene.h"
-#include "tracer/shade.h"
+#include "tracer/trace/bounce.h"
+#include "tracer/trace/camera.h"
+#include "tracer/io/image.h"
+#include "tracer/io/scene.h"
+#include "tracer/trace/shade.h"
 
 typedef struct node {
     float lo[3], hi[3];

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs every testbench of every given build directory and counts the cases.
 #   testbench/run.sh BUILD_DIR [BUILD_DIR...]
-# Programs: BUILD_DIR/testbench/tb_*; scripts: testbench/tb_*.sh (they get
+# Programs: BUILD_DIR/testbench/tb_*; scripts: every tb_*.sh below testbench/
+# (the folders mirror the source tree; they get
 # RTSIM_BIN=BUILD_DIR/bin and RTSIM_TMP, a scratch folder). Each case prints
 # PASS/FAIL/SKIP (see tb.h). Ends with the line "N passed, N failed, N skipped".
 # Set TB_FILTER=regex to run only matching programs.
@@ -51,12 +52,12 @@ for build in "$@"; do
     [[ -n "${TB_FILTER:-}" && ! "$name" =~ $TB_FILTER ]] && continue
     run_one "$variant" "$name" "$t"
   done
-  for t in testbench/tb_*.sh; do
+  while IFS= read -r t; do
     [ -f "$t" ] || continue
     name=$(basename "$t")
     [[ -n "${TB_FILTER:-}" && ! "$name" =~ $TB_FILTER ]] && continue
     run_one "$variant" "$name" bash "$t"
-  done
+  done < <(find testbench -name 'tb_*.sh' -type f | LC_ALL=C sort)
 done
 if [ ${#failed_names[@]} -gt 0 ]; then echo "failed programs: ${failed_names[*]}"; fi
 echo "$pass passed, $fail failed, $skip skipped"

@@ -21,7 +21,7 @@
  *    (dram_next_event), a request FIFO write or a response FIFO read, and the
  *    controller catches up lazily (dram_advance_to), so with FIFOs that never
  *    block, latencies and command streams equal the standalone driver's on the
- *    same request sequence (tests: testbench/tb_dram_port.c).
+ *    same request sequence (tests: testbench/model/dram/tb_dram_port.c).
  *  - Statistics are registered under "<name>." with units and descriptions
  *    (dram_port_module_desc lists them); controller-derived ones (commands, row hits,
  *    energy) are formulas that first catch the controller up to the sim time.

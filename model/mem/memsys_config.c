@@ -10,7 +10,7 @@
 #include <string.h>
 
 #include "model/dram/dram_timing.h"
-#include "tracer/bvh_layout.h"
+#include "tracer/bvh/bvh_layout.h"
 
 /* The keys every cache has (ADDRESSING: the node caches' extra key, or nothing). */
 #define CACHE_PARAMS(size, line, banks, mshrs, merge, lat, ...)                                                        \
@@ -239,7 +239,7 @@ int64_t memsys_line_bytes(const rtcfg *cfg, const char *section)
 }
 
 /* The most lines an object of `bytes` bytes touches in a cache of `line`-byte
- * lines, given the memory image's layout (tracer/bvh_image.c): nodes of N x
+ * lines, given the memory image's layout (tracer/bvh/bvh_image.c): nodes of N x
  * 32 B back to back from address 0, triangles of 48 B back to back from a
  * 4 KB boundary. Object i starts at i * bytes, so its offset within a line
  * is a multiple of g = gcd(bytes, line), at worst line - g. */

@@ -53,7 +53,7 @@ int memsys_dram_spec_load(const rtcfg *cfg, struct dram_spec *spec, char *err, s
 void memsys_cache_params(const rtcfg *cfg, const char *section, cache_params *out);
 /* The line (index-addressed: word) size a cache section really has. */
 int64_t memsys_line_bytes(const rtcfg *cfg, const char *section);
-/* Bytes of one BVH node: machine.branching x 32 (tracer/bvh_layout.h). */
+/* Bytes of one BVH node: machine.branching x 32 (tracer/bvh/bvh_layout.h). */
 int64_t memsys_node_bytes(const rtcfg *cfg);
 
 

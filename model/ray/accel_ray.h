@@ -4,7 +4,7 @@
  * along to the IST and back), hits, and the per-ray event callback.
  *
  * Contract: the event kinds and their a/b/t fields are those of the
- * reference traversal (tracer/traverse.h, rt_trv_event_kind, same numbering),
+ * reference traversal (tracer/trace/traverse.h, rt_trv_event_kind, same numbering),
  * emitted in the same per-ray order, only for work that commits (a pass whose
  * memory access missed emits nothing). model/ cannot include traverse.h, so
  * the numbering is repeated here; the system testbench checks it matches. */
@@ -15,11 +15,11 @@
 #include <stdint.h>
 
 #include "model/mem/cache_core.h"
-#include "tracer/bvh_layout.h"
+#include "tracer/bvh/bvh_layout.h"
 
 #define ACCEL_NO_HIT UINT32_MAX
 
-/* The bytes in simulated memory (same fields as tracer/bvh.h's image). */
+/* The bytes in simulated memory (same fields as tracer/bvh/bvh.h's image). */
 typedef struct accel_image {
     const uint8_t *bytes;
     uint64_t size;
@@ -29,7 +29,7 @@ typedef struct accel_image {
     uint32_t nnodes, ntris;
 } accel_image;
 
-/* One ray as the tracer made it (tracer/ray.h's rt_ray, field for field). */
+/* One ray as the tracer made it (tracer/trace/ray.h's rt_ray, field for field). */
 typedef struct accel_ray_in {
     float org[3], dir[3];
     float tmin, tmax;

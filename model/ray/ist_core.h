@@ -1,5 +1,5 @@
 /* ist_core.h — the work of one IST issue slot: one ray-triangle test of
- * Wald's projection method (rt_wald_test, tracer/bvh_layout.h) on a 48-byte
+ * Wald's projection method (rt_wald_test, tracer/bvh/bvh_layout.h) on a 48-byte
  * triangle fetched through the primitive cache (paper sec. 3). The IST
  * module (ist.h) adds the pipeline timing.
  *

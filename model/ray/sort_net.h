@@ -5,7 +5,7 @@
  * Contract: sort_net_get(n) returns the network for n lanes (1..8); each
  * layer is one pipeline stage of the TRV (layers = extra TRV latency).
  * sort_net_apply() orders lane keys exactly like the reference traversal
- * (tracer/traverse.h): hit lanes first, ascending tnear, ties by slot index;
+ * (tracer/trace/traverse.h): hit lanes first, ascending tnear, ties by slot index;
  * missed lanes last. The keys are unique (distinct slots), so every correct
  * network gives that one order. Networks (depth, comparators): 2 (1, 1),
  * 3 (3, 3), 4 (3, 5), 5 (5, 9), 6 (5, 12), 7 (6, 16), 8 (6, 19) — the optimal

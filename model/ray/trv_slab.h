@@ -4,7 +4,7 @@
  * for every child slot i < n of the node (n = 1..8, slots of RT_SLOT_BYTES),
  * exactly what the reference per-child code gives: for a used slot, bit i of
  * hit_bits and tnear[i] from rt_slab_test(prep, lo, hi, tmin, tmax)
- * (tracer/bvh_layout.h, the same IEEE single operations in the same order, bit
+ * (tracer/bvh/bvh_layout.h, the same IEEE single operations in the same order, bit
  * for bit, NaN and signed zeros included); for an empty slot (RT_META_EMPTY)
  * no hit and tnear +0. tnear must have room for 8 floats (lanes past n may be
  * written). Returns the number of used slots (the box tests the TRV counts).
@@ -15,7 +15,7 @@
  * NaN or both are equal, exactly rt_minf/rt_maxf (a < b ? a : b, a > b ? a : b),
  * cmpordps is "neither is NaN", and the selects are bitwise. Without SSE2
  * (arm64) the reference code runs per child. Only slot memory is read (lanes
- * past n repeat slot 0). Tested against rt_slab_test in tb_accel_units. */
+ * past n repeat slot 0). Tested against rt_slab_test in tb_trv_slab. */
 #ifndef RTSIM_MODEL_TRV_SLAB_H
 #define RTSIM_MODEL_TRV_SLAB_H
 
@@ -23,7 +23,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "tracer/bvh_layout.h"
+#include "tracer/bvh/bvh_layout.h"
 
 #if defined(__SSE2__)
 #include <emmintrin.h>

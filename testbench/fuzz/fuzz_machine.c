@@ -13,8 +13,8 @@
 #include "model/mem/memsys_config.h"
 #include "testbench/fuzz/fuzz.h"
 #include "testbench/fuzz/fuzz_check.h"
-#include "tracer/bvh.h"
-#include "tracer/view.h"
+#include "tracer/bvh/bvh.h"
+#include "tracer/io/view.h"
 
 const char fuzz_name[] = "fuzz_machine";
 

@@ -1,7 +1,7 @@
-/* fuzz_obj.c — OBJ meshes (tracer/obj_load.h), as rtsim reads SCENE.obj. */
+/* fuzz_obj.c — OBJ meshes (tracer/io/obj_load.h), as rtsim reads SCENE.obj. */
 #include "testbench/fuzz/fuzz.h"
 #include "testbench/fuzz/fuzz_check.h"
-#include "tracer/obj_load.h"
+#include "tracer/io/obj_load.h"
 
 const char fuzz_name[] = "fuzz_obj";
 

@@ -1,7 +1,7 @@
-/* fuzz_ply.c — PLY meshes, ASCII and binary (tracer/ply_load.h). */
+/* fuzz_ply.c — PLY meshes, ASCII and binary (tracer/io/ply_load.h). */
 #include "testbench/fuzz/fuzz.h"
 #include "testbench/fuzz/fuzz_check.h"
-#include "tracer/ply_load.h"
+#include "tracer/io/ply_load.h"
 
 const char fuzz_name[] = "fuzz_ply";
 

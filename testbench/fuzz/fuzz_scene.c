@@ -1,4 +1,4 @@
-/* fuzz_scene.c — scene description files (tracer/scene.h), as rtsim SCENE.scene
+/* fuzz_scene.c — scene description files (tracer/io/scene.h), as rtsim SCENE.scene
  * reads them: the input is written to fuzz.scene in a scratch folder of its
  * own (the loader goes by the .scene suffix and resolves mesh and views paths
  * relative to the file), then loaded; a `mesh` line may name a built-in
@@ -10,7 +10,7 @@
 
 #include "testbench/fuzz/fuzz.h"
 #include "testbench/fuzz/fuzz_check.h"
-#include "tracer/scene.h"
+#include "tracer/io/scene.h"
 
 const char fuzz_name[] = "fuzz_scene";
 

@@ -1,7 +1,7 @@
-/* fuzz_views.c — views files (tracer/view.h), as --views FILE reads them. */
+/* fuzz_views.c — views files (tracer/io/view.h), as --views FILE reads them. */
 #include "testbench/fuzz/fuzz.h"
 #include "testbench/fuzz/fuzz_check.h"
-#include "tracer/view.h"
+#include "tracer/io/view.h"
 
 const char fuzz_name[] = "fuzz_views";
 

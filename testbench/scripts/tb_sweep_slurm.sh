@@ -1,0 +1,78 @@
+#!/usr/bin/env bash
+# tb_sweep_slurm — scripts/sweep --slurm on a real one-node Slurm cluster (the
+# project's local-slurm tool: Debian's slurm-wlm and munge, installed when
+# missing, root only). A sweep submitted as a job array plus a dependent merge
+# job merges into the same CSV as the local GNU parallel run; a resubmission
+# after losing two results runs exactly those two (sbatch --wait) and merges
+# the same CSV again. SKIPs, saying why, when no cluster can be had. It runs in
+# the release variant only (the Slurm path is scripts, the same under ASan).
+# Cost: ~7 s to start the cluster (+ the first apt-get install), ~30 s of jobs.
+set -u
+bin=${RTSIM_BIN:?}/rtsim
+tmp=${RTSIM_TMP:-/tmp}/tb_sweep_slurm
+rm -rf "$tmp"; mkdir -p "$tmp"
+cd "$(dirname "$0")/../.."
+sweep=$PWD/scripts/sweep
+
+. testbench/cli_lib.sh
+
+skip() { echo "SKIP sweep_slurm: $*"; exit 0; }
+[ -z "${RTSIM_TB_SANITIZED:-}" ] || skip "release variant only (the Slurm path is the same scripts)"
+[ "$(id -u)" = 0 ] || skip "local-slurm needs root (it starts munged, slurmctld and slurmd)"
+# The tool: $LOCAL_SLURM, else tools/local-slurm in the shared folder beside the
+# repository (../shared) or beside the folder of worktrees (../../shared).
+tool=${LOCAL_SLURM:-}
+for c in ../shared/tools/local-slurm ../../shared/tools/local-slurm; do
+  [ -n "$tool" ] || { [ -x "$c" ] && tool=$c; }
+done
+[ -n "$tool" ] && [ -x "$tool" ] || skip "no local-slurm tool (set LOCAL_SLURM=path/to/local-slurm)"
+
+# A cluster that already runs (SLURM_CONF given, or local-slurm's own) is used
+# as it is; otherwise this test starts one and stops it at the end.
+started=0
+if [ -n "${SLURM_CONF:-}" ] && timeout 20 sinfo -h > /dev/null 2>&1; then
+  :
+elif conf=$(dirname "$(mktemp -u)")/local-slurm/slurm.conf && [ -f "$conf" ] &&
+     SLURM_CONF=$conf timeout 20 sinfo -h -o '%t' 2>/dev/null | grep -qE 'idle|mix|alloc'; then
+  export SLURM_CONF=$conf
+else
+  if ! env_line=$(timeout 600 "$tool" start 2> "$tmp/start.err"); then
+    skip "local-slurm start failed: $(tail -n 2 "$tmp/start.err" | tr '\n' ' ')"
+  fi
+  eval "$env_line"
+  started=1
+  trap '"$tool" stop > /dev/null 2>&1' EXIT
+fi
+command -v sbatch > /dev/null || skip "sbatch not found after local-slurm start"
+
+grid=(--set-grid node_l1.size=4096,16384 --machines bvh2,mbvh4 --res 32x18 --rtsim "$bin")
+
+# The reference: the same grid on local cores through GNU parallel.
+"$sweep" "${grid[@]}" --out "$tmp/local" > "$tmp/local.out" 2>&1
+check sweep_slurm_local_reference test -s "$tmp/local/results.csv"
+
+# Submit: two array tasks for four points (each task runs two) and a merge job
+# after the array; then wait for the merge job to leave the queue.
+out=$(SWEEP_SLURM_TASKS=2 "$sweep" "${grid[@]}" --out "$tmp/cluster" --slurm 2>&1); rc=$?
+check sweep_slurm_submit_exit_0 test $rc -eq 0
+merge_job=$(sed -n 's/.* and merge job \([0-9]*\) .*/\1/p' <<< "$out")
+check sweep_slurm_merge_job_id test -n "$merge_job"
+for _ in $(seq 1 300); do
+  [ -n "$merge_job" ] && squeue -h -j "$merge_job" 2> /dev/null | grep -q . || break
+  sleep 1
+done
+check sweep_slurm_array_task_logs test "$(ls "$tmp/cluster/logs" | grep -c '^slurm-[0-9]*_[12]\.out$')" -eq 2
+check sweep_slurm_merge_job_log grep -q "merged 4 of 4 points" "$tmp/cluster/logs/slurm-merge-$merge_job.out"
+check sweep_slurm_csv_equals_local cmp "$tmp/cluster/results.csv" "$tmp/local/results.csv"
+
+# Resume on the cluster: two results lost, resubmitted with --wait, exactly
+# those two run and the merged CSV is the same again.
+rm -f "$tmp/cluster/results.csv"
+lost=("$tmp/cluster/results/"*.json)   # an array, not ls | xargs: the path may hold spaces
+rm -f "${lost[@]:0:2}"
+out=$("$sweep" "${grid[@]}" --out "$tmp/cluster" --slurm --wait 2>&1); rc=$?
+check sweep_slurm_wait_exit_0 test $rc -eq 0
+check sweep_slurm_resume_two_to_run grep -q "4 points in .*, 2 to run" <<< "$out"
+check sweep_slurm_resume_array_of_two grep -qx '#SBATCH --array=1-2' "$tmp/cluster/sweep.sbatch"
+check sweep_slurm_resume_csv_equals_local cmp "$tmp/cluster/results.csv" "$tmp/local/results.csv"
+[ $started = 0 ] || echo "# stopped the cluster this test started" >&2

@@ -78,7 +78,7 @@ for name in stated:
 
 print("DRAM model speed: rtdram (single-threaded) on the reference traces, median of %d runs" % runs)
 print("ours = CPU time (user+sys) of the process; wall time shown for information")
-print("reference time derived from the issue's stated Ramulator throughput, not measured here")
+print("reference time derived from the Ramulator throughput in bench/dram_reference.csv, not measured here")
 hdr = "%-16s %10s %12s %10s %14s %16s %8s" % ("benchmark", "requests", "ours CPU (s)", "wall (s)",
                                               "ours (M req/s)", "Ramulator (M/s)", "ratio")
 print(hdr)

@@ -5,7 +5,7 @@
 # (bench/kernel_systemc.cpp) alternately, RUNS times each (default 5), and
 # reports the medians of the simulation wall times (the programs time their
 # simulation only, not process start-up) and ratio = SystemC / ours.
-# Workloads (sizes from the issue; KERNEL_BENCH_SCALE=0.1 shrinks them all for
+# Workloads (sizes fixed here; KERNEL_BENCH_SCALE=0.1 shrinks them all for
 # a quick check): a ping-pong 10 M tokens (SystemC SC_METHOD, and a_thread
 # with SC_THREAD, both against our method version), b 8-stage pipeline
 # 10 M cycles, c 1000 self-re-triggering processes 10 M events, d = b with

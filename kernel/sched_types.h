@@ -3,7 +3,7 @@
  * Not an API: model code must not touch these fields. They are visible only
  * so that the hot paths (FIFO read/write and the wake-ups they cause) can be
  * inlined into the caller, which is what makes an activation cost a few
- * nanoseconds (docs/kernel.md "Performance"). */
+ * nanoseconds (docs/validation/kernel-speed.md). */
 #ifndef KS_SCHED_TYPES_H
 #define KS_SCHED_TYPES_H
 

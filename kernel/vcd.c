@@ -11,7 +11,7 @@
 enum { VAR_BIT = 0, VAR_INT = 1, VAR_ENUM = 2 };
 /* 128 kB: the buffer stays in the core's L2 cache while it is filled and
  * copied to the kernel (measurements against 1 MB on the shared machine:
- * docs/kernel.md, "VCD round"). */
+ * docs/validation/kernel-speed.md, the VCD round). */
 #define VCD_BUF (1u << 17)
 #define VCD_LINE 80u   /* longest bit/integer change: b + 64 digits + " id\n" + 8 spare */
 #define VCD_CHUNK (VCD_BUF / 4 / VCD_LINE) /* changes given room at once */

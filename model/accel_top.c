@@ -55,7 +55,7 @@ struct accel_top {
     uint64_t stat_cycles, stat_rays, stat_dram_bytes;
     uint64_t stat_failed;      /* the run stopped on a failure */
     char failure[128];         /* its one-line cause, "" when none */
-    /* failure detection (docs/accel.md "Deadlock and livelock bounds") */
+    /* failure detection (docs/accel.md "Machines that cannot run, failure bounds, the livelock guard") */
     uint64_t longest_wait;     /* the longest a valid run may do no work, cycles */
     uint64_t deadlock_window;  /* kernel detector: no progress of any unit */
     uint64_t livelock_window;  /* watchdog: no committed work (0 = off) */

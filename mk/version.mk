@@ -1,9 +1,9 @@
 # Build provenance (cli/version.h; the "run" object of docs/results.md): the
 # commit and whether tracked files differ from it (1, 0; -1 outside git),
-# passed to every cli/ object (the tools' and libcli's). $(BUILD)/version.stamp holds both and is
-# rewritten only when they change, and the cli/ objects depend on it: a new
-# commit, or the tree turning dirty or clean, recompiles the three tool
-# objects and nothing else. Further edits that keep a dirty tree dirty change
+# passed to every cli/ object (the tools' and libcli's). $(BUILD)/version.stamp
+# holds both and is rewritten only when they change, and the cli/ objects
+# depend on it: a new commit, or the tree turning dirty or clean, recompiles
+# the tools' and libcli's objects and nothing else. Further edits that keep a dirty tree dirty change
 # nothing here (the flag says "dirty", not which changes; those objects that
 # changed are rebuilt as usual). Untracked files do not make the tree dirty.
 RTSIM_GIT_COMMIT := $(shell git rev-parse --short HEAD 2>/dev/null || echo unknown)

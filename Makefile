@@ -8,6 +8,8 @@
 #                              dram/, energy/; uses kernel/, config/ and the
 #                              tracer's node/triangle layout)
 #   config/  -> libconfig.a   (the typed, ranged configuration store)
+#   cli/lib/ -> libcli.a      (what the tools share: options, provenance,
+#                              outputs, JSON, progress; declared in cli/*.h)
 #   cli/     -> one binary per cli/<name>.c in $(BUILD)/bin
 #   testbench/ mirrors the source tree (testbench/kernel/, testbench/model/ray/,
 #   ...): every tb_*.c below it -> one test program $(BUILD)/testbench/tb_*;
@@ -33,7 +35,7 @@ ifeq ($(SAN),1)
   LDFLAGS  += $(SANFLAGS)
 endif
 
-LIBS := frame model config tracer kernel
+LIBS := cli frame model config tracer kernel
 # Extra libraries per area (set in mk/*.mk): EXTRA_LDLIBS. Recursively
 # expanded on purpose: its $(shell pkg-config ...) parts run when a link recipe
 # runs, after `deps` has installed the packages, not when make reads this file
@@ -43,8 +45,12 @@ EXTRA_LDLIBS =
 BENCH_BINS :=
 -include $(sort $(wildcard mk/*.mk))
 
-# a library's sources: its folder and the folders inside it (model/ray, ...)
-lib_srcs = $(sort $(wildcard $(1)/*.c $(1)/*/*.c) $(wildcard $(1)/*.cpp $(1)/*/*.cpp))
+# a library's sources: its folder and the folders inside it (model/ray, ...);
+# libcli's are cli/lib alone (cli/*.c are the tools, one binary each)
+LIB_DIR_cli := cli/lib
+lib_dir = $(or $(LIB_DIR_$(1)),$(1))
+lib_srcs = $(sort $(wildcard $(call lib_dir,$(1))/*.c $(call lib_dir,$(1))/*/*.c) \
+	$(wildcard $(call lib_dir,$(1))/*.cpp $(call lib_dir,$(1))/*/*.cpp))
 lib_objs = $(patsubst %,$(BUILD)/obj/%.o,$(call lib_srcs,$(1)))
 LIB_FILES := $(foreach l,$(LIBS),$(if $(call lib_srcs,$(l)),$(BUILD)/lib/lib$(l).a))
 LINK_LIBS = $(LIB_FILES) $(EXTRA_LDLIBS) $(LDLIBS)

@@ -13,6 +13,7 @@
 
 #include "cli/options.h"
 #include "cli/output_path.h"
+#include "kernel/interrupt.h"
 #include "model/dram/dram_checker.h"
 #include "model/dram/dram_ctrl.h"
 #include "model/dram/dram_energy.h"

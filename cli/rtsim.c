@@ -15,8 +15,8 @@
 #include <time.h>
 #include <unistd.h>
 
-#include "cli/rtsim_estimate.h"
 #include "frame/frame.h"
+#include "fidelity/cost_estimate.h"
 #include "fidelity/fidelity.h"
 #include "kernel/fork_pool.h"
 #include "kernel/interrupt.h"
@@ -31,6 +31,7 @@
 
 #include "cli/options.h"
 #include "cli/output_path.h"
+#include "cli/progress.h"
 #include "cli/run_info.h"
 #include "cli/version.h"
 
@@ -280,14 +281,6 @@ static double wall(void) { return cli_run_clock(CLOCK_MONOTONIC); }
  * host and however many cores ran it. */
 static double cpu(void) { return cli_run_clock(CLOCK_PROCESS_CPUTIME_ID) + ks_pool_children_cpu_s(); }
 
-/* The progress bar: 30 cells, the first `bars` of them filled. */
-static void draw_bar(int bars, char bar[31])
-{
-    for (int i = 0; i < 30; i++)
-        bar[i] = i < bars ? '#' : '.';
-    bar[30] = 0;
-}
-
 static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admitted)
 {
     progress_state *p = user;
@@ -311,8 +304,8 @@ static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admi
     double frac = p->total ? (double)(admitted < p->total ? admitted : p->total) / (double)p->total : 1.0;
     double el = wall() - p->t0;
     double eta = frac > 0.01 ? el * (1.0 - frac) / frac : 0.0;
-    char bar[31];
-    draw_bar((int)(frac * 30.0), bar);
+    char bar[CLI_PROGRESS_CELLS + 1];
+    cli_progress_bar((int)(frac * CLI_PROGRESS_CELLS), bar);
     /* The fraction is rays admitted over the primary-ray count: the number
      * of bounce rays is only known once every path has ended, so past 100%
      * the remaining time is unknown and no ETA is claimed. */
@@ -342,8 +335,8 @@ static void pieces_cb(void *user, int done, int total)
     }
     if (!p->on)
         return;
-    char bar[31];
-    draw_bar(total > 0 ? done * 30 / total : 30, bar);
+    char bar[CLI_PROGRESS_CELLS + 1];
+    cli_progress_bar(total > 0 ? done * CLI_PROGRESS_CELLS / total : CLI_PROGRESS_CELLS, bar);
     fprintf(stderr, "\r[%s] %d/%d pieces  %.0fs   ", bar, done, total, now - p->t0);
     fflush(stderr);
 }
@@ -543,9 +536,9 @@ static int run_fidelity(job *j)
      * model (fixed-mem's last run, --accuracy's fallback to full) */
     progress_state ps = {!o->quiet && isatty(2), o->progress && !isatty(2), 0, 0, 0, (uint64_t)j->w * j->h, wall(),
                          NULL};
-    rtsim_estimate_params ep;
+    fid_cost_params ep;
     char eerr[RTCFG_PATH_MAX + 256];
-    if (rtsim_estimate_load(&ep, eerr, sizeof eerr))
+    if (fid_cost_load(&ep, eerr, sizeof eerr))
         ps.every = ep.progress_s;
     else if (ps.lines) {
         fprintf(stderr, "rtsim: warning: no progress lines: %s\n", eerr);
@@ -619,20 +612,20 @@ static int run_fidelity(job *j)
 static void announce(job *j, progress_state *ps)
 {
     const options *o = j->o;
-    rtsim_estimate_params ep;
+    fid_cost_params ep;
     char eerr[RTCFG_PATH_MAX + 256];
-    if (!rtsim_estimate_load(&ep, eerr, sizeof eerr)) {
+    if (!fid_cost_load(&ep, eerr, sizeof eerr)) {
         fprintf(stderr, "rtsim: warning: no run-time estimate: %s\n", eerr);
         return;
     }
     const accel_params *ap = accel_top_params(j->top);
     rt_trv_params tp;
     rtsim_trv_params(ap, j->img.width, &tp);
-    rtsim_estimate est;
-    rtsim_estimate_frame(&ep, &j->frame, &j->img, &tp, ap->trv_count, o->exhaustive, &est);
+    fid_cost est;
+    fid_cost_frame(&ep, &j->frame, &j->img, &tp, ap->trv_count, o->exhaustive, &est);
     if (o->progress || est.host_s >= ep.announce_s) {
         char d[32];
-        rtsim_estimate_duration(est.host_s, d, sizeof d);
+        fid_cost_duration(est.host_s, d, sizeof d);
         fprintf(stderr, "rtsim: estimate: ~%.0f rays, ~%.3g simulated cycles, ~%s of host time (%s%s)%s\n", est.rays,
                 est.cycles, d, o->diffuse ? "diffuse" : "primary", o->exhaustive ? ", exhaustive" : "",
                 est.host_s >= ep.announce_s && !o->progress ? "; --progress prints progress lines" : "");

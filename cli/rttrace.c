@@ -37,11 +37,14 @@
 #include "tracer/log/trace_log.h"
 #include "tracer/trace/traverse.h"
 
+#include "cli/json.h"
 #include "cli/options.h"
 #include "cli/output_path.h"
+#include "cli/progress.h"
 #include "cli/run_info.h"
-#include "kernel/interrupt.h"
 #include "cli/version.h"
+#include "kernel/interrupt.h"
+
 #define BOUNCES_MAX 32            /* rt_ray.bounce is 8 bits; 32 is far beyond the paper's 4 */
 
 static double now_s(void) { return cli_run_clock(CLOCK_MONOTONIC); }
@@ -233,28 +236,17 @@ static double per(uint64_t a, uint64_t b) { return b ? (double)a / (double)b : 0
 
 static uint64_t embree_mismatches(const rt_embree_tally *t) { return t->rays - t->cause[RT_EMBREE_SAME]; }
 
-/* ---- progress bar (only on a terminal) ---- */
+/* ---- progress bar (only on a terminal, cli/progress.h) ---- */
 
-typedef struct progress {
-    bool on;
-    double t0, last;
-    uint64_t total;
-} progress;
-
-static void progress_update(progress *p, uint64_t done, bool final)
+static void progress_update(cli_progress *p, uint64_t done, uint64_t total, bool final)
 {
-    if (!p->on)
+    if (!p->on || (!cli_progress_due(p, 0.2) && !final))
         return;
-    double t = now_s();
-    if (!final && t - p->last < 0.2)
-        return;
-    p->last = t;
-    double f = p->total ? (double)done / (double)p->total : 1.0;
-    int bar = (int)(f * 30.0);
-    double el = t - p->t0, eta = f > 0 ? el * (1.0 - f) / f : 0.0;
-    fprintf(stderr, "\r[%.*s%.*s] %5.1f%% %" PRIu64 "/%" PRIu64 " pixels  ETA %4.0f s ", bar,
-            "##############################", 30 - bar, "                              ", 100.0 * f, done, p->total,
-            final ? 0.0 : eta);
+    double f = total ? (double)done / (double)total : 1.0;
+    char bar[CLI_PROGRESS_CELLS + 1];
+    cli_progress_bar((int)(f * CLI_PROGRESS_CELLS), bar);
+    fprintf(stderr, "\r[%s] %5.1f%% %" PRIu64 "/%" PRIu64 " pixels  ETA %4.0f s ", bar, 100.0 * f, done, total,
+            final ? 0.0 : cli_progress_eta(p, f));
     if (final)
         fputs("\n", stderr);
     fflush(stderr);
@@ -279,45 +271,22 @@ static void remove_written(void)
 
 /* ---- JSON ---- */
 
-static void json_u(FILE *f, const char *k, uint64_t v, bool *first)
-{
-    fprintf(f, "%s\n  \"%s\": %" PRIu64, *first ? "" : ",", k, v);
-    *first = false;
-}
-static void json_d(FILE *f, const char *k, double v, bool *first)
-{
-    fprintf(f, "%s\n  \"%s\": %.9g", *first ? "" : ",", k, v);
-    *first = false;
-}
-static void json_s(FILE *f, const char *k, const char *v, bool *first)
-{
-    fprintf(f, "%s\n  \"%s\": \"", *first ? "" : ",", k);
-    for (const char *c = v; *c; c++) {
-        if (*c == '"' || *c == '\\')
-            fprintf(f, "\\%c", *c);
-        else if ((unsigned char)*c < 0x20)
-            fprintf(f, "\\u%04x", (unsigned)(unsigned char)*c);
-        else
-            fputc(*c, f);
-    }
-    fputc('"', f);
-    *first = false;
-}
-
-typedef struct run_info {
+/* What a trace or a log check ran on: the options, the scene, its view and
+ * its BVH (for the JSON and the summary). */
+typedef struct trace_inputs {
     const options *o;
     const rt_scene *sc;
     const rt_view *view;
     const rt_bvh_params *bp;
     const rt_bvh_stats *bs;
     const rt_bvh_image *img;
-} run_info;
+} trace_inputs;
 
 /* Provenance (cli/run_info.h, docs/results.md): started in main, filled from
  * the run by fill_run, written first in the JSON. */
 static cli_run_info g_run;
 
-static void fill_run(const run_info *ri, const stats *s, bool read_mode, const rt_tlog_header *h)
+static void fill_run(const trace_inputs *ri, const stats *s, bool read_mode, const rt_tlog_header *h)
 {
     const options *o = ri->o;
     g_run.scene = o->scene, g_run.views_file = o->views;
@@ -355,30 +324,30 @@ static void fill_run(const run_info *ri, const stats *s, bool read_mode, const r
     }
 }
 
-static void json_common(FILE *f, const run_info *ri, bool *first)
+static void json_common(cli_json *j, const trace_inputs *ri)
 {
-    json_s(f, "tool", "rttrace " RTSIM_VERSION " (git " RTSIM_GIT ")", first);
-    json_s(f, "scene", ri->sc->name, first);
-    json_u(f, "triangles", ri->sc->mesh.ntris, first);
+    cli_json_str(j, "tool", "rttrace " RTSIM_VERSION " (git " RTSIM_GIT ")");
+    cli_json_str(j, "scene", ri->sc->name);
+    cli_json_uint(j, "triangles", ri->sc->mesh.ntris);
     char hex[24];
     snprintf(hex, sizeof hex, "%016" PRIx64, rt_mesh_hash(&ri->sc->mesh));
-    json_s(f, "mesh_hash", hex, first);
-    json_u(f, "bvh_width", (uint64_t)ri->bp->width, first);
-    json_u(f, "leaf_size", (uint64_t)ri->bp->leaf_size, first);
-    json_s(f, "bvh_builder", ri->bp->width > 2 ? builder_kinds[ri->bp->builder] : "sah", first);
+    cli_json_str(j, "mesh_hash", hex);
+    cli_json_uint(j, "bvh_width", (uint64_t)ri->bp->width);
+    cli_json_uint(j, "leaf_size", (uint64_t)ri->bp->leaf_size);
+    cli_json_str(j, "bvh_builder", ri->bp->width > 2 ? builder_kinds[ri->bp->builder] : "sah");
     snprintf(hex, sizeof hex, "%016" PRIx64, ri->img->hash);
-    json_s(f, "bvh_image_hash", hex, first);
-    json_u(f, "bvh_inner_nodes", ri->bs->inner_nodes, first);
-    json_u(f, "bvh_leaves", ri->bs->leaves, first);
-    json_u(f, "bvh_max_depth", ri->bs->max_depth, first);
-    json_d(f, "bvh_sah_cost", ri->bs->sah_cost, first);
-    json_u(f, "bvh_node_bytes", ri->bs->node_bytes_total, first);
-    json_u(f, "bvh_triangle_bytes", ri->bs->tri_bytes_total, first);
-    json_u(f, "bvh_image_bytes", ri->img->size, first);
-    json_d(f, "bvh_build_s", ri->bs->build_seconds, first);
+    cli_json_str(j, "bvh_image_hash", hex);
+    cli_json_uint(j, "bvh_inner_nodes", ri->bs->inner_nodes);
+    cli_json_uint(j, "bvh_leaves", ri->bs->leaves);
+    cli_json_uint(j, "bvh_max_depth", ri->bs->max_depth);
+    cli_json_real(j, "bvh_sah_cost", ri->bs->sah_cost);
+    cli_json_uint(j, "bvh_node_bytes", ri->bs->node_bytes_total);
+    cli_json_uint(j, "bvh_triangle_bytes", ri->bs->tri_bytes_total);
+    cli_json_uint(j, "bvh_image_bytes", ri->img->size);
+    cli_json_real(j, "bvh_build_s", ri->bs->build_seconds);
 }
 
-static int write_json(const char *path, const run_info *ri, const stats *s, bool read_mode, const char *partial)
+static int write_json(const char *path, const trace_inputs *ri, const stats *s, bool read_mode, const char *partial)
 {
     char *text = NULL;
     size_t len = 0;
@@ -387,85 +356,84 @@ static int write_json(const char *path, const run_info *ri, const stats *s, bool
         fprintf(stderr, "rttrace: --json %s: out of memory\n", path);
         return 2;
     }
-    bool first = true;
     fputs("{\n  ", f);
     cli_run_write_member(f, &g_run, "\n    ");
-    first = false;
-    json_common(f, ri, &first);
+    cli_json j = {f, "\n  ", false};   /* the run object is the first member */
+    json_common(&j, ri);
     if (read_mode) {
-        json_s(f, "log", ri->o->read_log, &first);
-        json_u(f, "log_bytes", s->log.file_bytes, &first);
-        json_u(f, "log_blocks", s->log.blocks, &first);
-        json_u(f, "rays", s->log.rays, &first);
-        json_u(f, "hits", s->log.hits, &first);
-        json_u(f, "node_visits", s->log.visits, &first);
-        json_u(f, "leaf_visits", s->log.leaves, &first);
-        json_u(f, "triangle_tests", s->log.tri_tests, &first);
-        json_u(f, "stack_pushes", s->log.pushes, &first);
-        json_u(f, "stack_pops", s->log.pops, &first);
-        json_u(f, "stack_culls", s->log.culls, &first);
-        json_u(f, "stack_overflows", s->log.overflows, &first);
-        json_u(f, "events", s->log.events, &first);
-        json_d(f, "log_bytes_per_node_visit", per(s->log.file_bytes, s->log.visits), &first);
-        json_d(f, "wall_s", s->wall_s, &first);
+        cli_json_str(&j, "log", ri->o->read_log);
+        cli_json_uint(&j, "log_bytes", s->log.file_bytes);
+        cli_json_uint(&j, "log_blocks", s->log.blocks);
+        cli_json_uint(&j, "rays", s->log.rays);
+        cli_json_uint(&j, "hits", s->log.hits);
+        cli_json_uint(&j, "node_visits", s->log.visits);
+        cli_json_uint(&j, "leaf_visits", s->log.leaves);
+        cli_json_uint(&j, "triangle_tests", s->log.tri_tests);
+        cli_json_uint(&j, "stack_pushes", s->log.pushes);
+        cli_json_uint(&j, "stack_pops", s->log.pops);
+        cli_json_uint(&j, "stack_culls", s->log.culls);
+        cli_json_uint(&j, "stack_overflows", s->log.overflows);
+        cli_json_uint(&j, "events", s->log.events);
+        cli_json_real(&j, "log_bytes_per_node_visit", per(s->log.file_bytes, s->log.visits));
+        cli_json_real(&j, "wall_s", s->wall_s);
     } else {
         const options *o = ri->o;
-        json_s(f, "view", ri->view->name, &first);
-        json_s(f, "ray_type", o->diffuse ? "diffuse" : o->occlusion ? "occlusion" : "primary", &first);
-        json_u(f, "width_px", o->res.w, &first);
-        json_u(f, "height_px", o->res.h, &first);
-        json_u(f, "max_bounces", o->diffuse ? o->bounces : 0, &first);
-        json_u(f, "seed", o->seed, &first);
-        json_u(f, "rays", s->rays, &first);
-        json_u(f, "primary_rays", s->primary_rays, &first);
-        json_u(f, "bounce_rays", s->bounce_rays, &first);
-        json_u(f, "hits", s->hits, &first);
-        json_u(f, "stack_overflows", s->overflows, &first);
-        json_u(f, "node_visits", s->visits, &first);
-        json_u(f, "box_tests", s->box_tests, &first);
-        json_u(f, "leaf_visits", s->leaves, &first);
-        json_u(f, "triangle_tests", s->tri_tests, &first);
-        json_u(f, "stack_pushes", s->pushes, &first);
-        json_u(f, "stack_pops", s->pops, &first);
-        json_u(f, "stack_culls", s->culls, &first);
-        json_u(f, "max_stack_depth", s->max_stack, &first);
-        json_d(f, "node_visits_per_ray", per(s->visits, s->rays), &first);
-        json_d(f, "box_tests_per_ray", per(s->box_tests, s->rays), &first);
-        json_d(f, "triangle_tests_per_ray", per(s->tri_tests, s->rays), &first);
-        json_d(f, "max_node_visits_per_pixel", s->visits_max, &first);
-        json_d(f, "max_triangle_tests_per_pixel", s->tris_max, &first);
-        json_u(f, "embree_checked", o->check_embree, &first);
-        json_u(f, "embree_rays", s->tally.rays, &first);
-        json_u(f, "embree_mismatches", embree_mismatches(&s->tally), &first);
-        json_u(f, "embree_same_exact_t", s->tally.exact_t, &first);
-        json_u(f, "embree_same_t_within_bound", s->tally.t_bound, &first);
+        cli_json_str(&j, "view", ri->view->name);
+        cli_json_str(&j, "ray_type", o->diffuse ? "diffuse" : o->occlusion ? "occlusion" : "primary");
+        cli_json_uint(&j, "width_px", o->res.w);
+        cli_json_uint(&j, "height_px", o->res.h);
+        cli_json_uint(&j, "max_bounces", o->diffuse ? o->bounces : 0);
+        cli_json_uint(&j, "seed", o->seed);
+        cli_json_uint(&j, "rays", s->rays);
+        cli_json_uint(&j, "primary_rays", s->primary_rays);
+        cli_json_uint(&j, "bounce_rays", s->bounce_rays);
+        cli_json_uint(&j, "hits", s->hits);
+        cli_json_uint(&j, "stack_overflows", s->overflows);
+        cli_json_uint(&j, "node_visits", s->visits);
+        cli_json_uint(&j, "box_tests", s->box_tests);
+        cli_json_uint(&j, "leaf_visits", s->leaves);
+        cli_json_uint(&j, "triangle_tests", s->tri_tests);
+        cli_json_uint(&j, "stack_pushes", s->pushes);
+        cli_json_uint(&j, "stack_pops", s->pops);
+        cli_json_uint(&j, "stack_culls", s->culls);
+        cli_json_uint(&j, "max_stack_depth", s->max_stack);
+        cli_json_real(&j, "node_visits_per_ray", per(s->visits, s->rays));
+        cli_json_real(&j, "box_tests_per_ray", per(s->box_tests, s->rays));
+        cli_json_real(&j, "triangle_tests_per_ray", per(s->tri_tests, s->rays));
+        cli_json_real(&j, "max_node_visits_per_pixel", s->visits_max);
+        cli_json_real(&j, "max_triangle_tests_per_pixel", s->tris_max);
+        cli_json_uint(&j, "embree_checked", o->check_embree);
+        cli_json_uint(&j, "embree_rays", s->tally.rays);
+        cli_json_uint(&j, "embree_mismatches", embree_mismatches(&s->tally));
+        cli_json_uint(&j, "embree_same_exact_t", s->tally.exact_t);
+        cli_json_uint(&j, "embree_same_t_within_bound", s->tally.t_bound);
         for (int c = RT_EMBREE_TIE; c < RT_EMBREE_CAUSES; c++) {
             char k[64];
             snprintf(k, sizeof k, "embree_mismatch_%s", rt_embree_cause_name((rt_embree_cause)c));
-            json_u(f, k, s->tally.cause[c], &first);
+            cli_json_uint(&j, k, s->tally.cause[c]);
         }
-        json_d(f, "embree_build_s", s->embree_build_s, &first);
-        json_d(f, "embree_max_mismatch_rate", o->max_mismatch_rate, &first);
+        cli_json_real(&j, "embree_build_s", s->embree_build_s);
+        cli_json_real(&j, "embree_max_mismatch_rate", o->max_mismatch_rate);
         if (o->occlusion) {
-            json_u(f, "ao_samples", RT_AO_SAMPLES_DEFAULT, &first);
-            json_d(f, "ao_distance", rt_ao_distance(&ri->sc->mesh), &first);
-            json_u(f, "occlusion_rays", s->occlusion_rays, &first);
-            json_u(f, "occluded", s->occluded, &first);
-            json_u(f, "embree_occlusion_rays", s->occ_tally.rays, &first);
-            json_u(f, "embree_occlusion_mismatches", embree_mismatches(&s->occ_tally), &first);
+            cli_json_uint(&j, "ao_samples", RT_AO_SAMPLES_DEFAULT);
+            cli_json_real(&j, "ao_distance", rt_ao_distance(&ri->sc->mesh));
+            cli_json_uint(&j, "occlusion_rays", s->occlusion_rays);
+            cli_json_uint(&j, "occluded", s->occluded);
+            cli_json_uint(&j, "embree_occlusion_rays", s->occ_tally.rays);
+            cli_json_uint(&j, "embree_occlusion_mismatches", embree_mismatches(&s->occ_tally));
             for (int c = RT_EMBREE_TIE; c < RT_EMBREE_CAUSES; c++) {
                 char k[64];
                 snprintf(k, sizeof k, "embree_occlusion_mismatch_%s", rt_embree_cause_name((rt_embree_cause)c));
-                json_u(f, k, s->occ_tally.cause[c], &first);
+                cli_json_uint(&j, k, s->occ_tally.cause[c]);
             }
         }
-        json_u(f, "log_bytes", s->log_written ? s->log.file_bytes : 0, &first);
-        json_d(f, "log_bytes_per_node_visit", s->log_written ? per(s->log.file_bytes, s->visits) : 0.0, &first);
-        json_d(f, "trace_s", s->trace_s, &first);
-        json_d(f, "trace_mrays_per_s", s->trace_s > 0 ? (double)s->rays / s->trace_s / 1e6 : 0.0, &first);
-        json_d(f, "wall_s", s->wall_s, &first);
+        cli_json_uint(&j, "log_bytes", s->log_written ? s->log.file_bytes : 0);
+        cli_json_real(&j, "log_bytes_per_node_visit", s->log_written ? per(s->log.file_bytes, s->visits) : 0.0);
+        cli_json_real(&j, "trace_s", s->trace_s);
+        cli_json_real(&j, "trace_mrays_per_s", s->trace_s > 0 ? (double)s->rays / s->trace_s / 1e6 : 0.0);
+        cli_json_real(&j, "wall_s", s->wall_s);
         if (s->failed)   /* only then: a passing run's JSON is unchanged */
-            json_u(f, "run_failed", 1, &first);
+            cli_json_uint(&j, "run_failed", 1);
     }
     fputs("\n}\n", f);
     fclose(f);
@@ -482,7 +450,7 @@ static int write_json(const char *path, const run_info *ri, const stats *s, bool
 
 /* ---- the run ---- */
 
-static void print_build(const run_info *ri)
+static void print_build(const trace_inputs *ri)
 {
     const rt_bvh_stats *b = ri->bs;
     printf("scene      %s: %u triangles, mesh hash %016" PRIx64 "\n", ri->sc->name, ri->sc->mesh.ntris,
@@ -499,7 +467,7 @@ static void print_build(const run_info *ri)
 static int read_log_mode(const options *o, rt_scene *sc, const rt_bvh_params *bp, const rt_bvh_stats *bs,
                          const rt_bvh_image *img, double t0)
 {
-    run_info ri = {o, sc, &sc->views.v[0], bp, bs, img};
+    trace_inputs ri = {o, sc, &sc->views.v[0], bp, bs, img};
     if (!o->quiet)
         print_build(&ri);
     char err[1024];
@@ -687,7 +655,7 @@ static void tracer_close(tracer_ctx *tc)
 /* Traces the frame pixel by pixel, each path's rays one after the other,
  * until done or interrupted (*done: pixels traced); 0, or 2 on a log error
  * (said). */
-static int trace_pixels(tracer_ctx *tc, const world *w, float ao_tmax, progress *pg, size_t *done)
+static int trace_pixels(tracer_ctx *tc, const world *w, float ao_tmax, cli_progress *pg, size_t *done)
 {
     const options *o = tc->o;
     const rt_mesh *mesh = &w->sc.mesh;
@@ -743,7 +711,7 @@ static int trace_pixels(tracer_ctx *tc, const world *w, float ao_tmax, progress 
             tc->rgb[3 * pix + 1] = col.y;
             tc->rgb[3 * pix + 2] = col.z;
             if ((pix & 1023) == 0)
-                progress_update(pg, pix, false);
+                progress_update(pg, pix, (uint64_t)o->res.w * o->res.h, false);
             (*done)++;
         }
     }
@@ -880,7 +848,7 @@ static void print_summary(const tracer_ctx *tc, const world *w, const stats *s, 
 /* Traces the frame and writes its outputs; the exit status. */
 static int trace_frame(const options *o, world *w, double t0)
 {
-    run_info ri = {o, &w->sc, w->view, &w->bp, &w->bs, &w->img};
+    trace_inputs ri = {o, &w->sc, w->view, &w->bp, &w->bs, &w->img};
     if (!o->quiet) {
         print_build(&ri);
         fflush(stdout);
@@ -892,7 +860,8 @@ static int trace_frame(const options *o, world *w, double t0)
     int rc = tracer_open(&tc, o, w, &s);
     const size_t npix = (size_t)o->res.w * o->res.h;
     const float ao_tmax = rt_ao_distance(&w->sc.mesh);
-    progress pg = {!o->quiet && isatty(2), now_s(), 0, npix};
+    cli_progress pg;
+    cli_progress_start(&pg, !o->quiet && isatty(2));
     size_t pixels_done = 0;
     if (rc == 0) {
         const double tt0 = now_s(), tc0 = cli_run_clock(CLOCK_PROCESS_CPUTIME_ID);
@@ -921,7 +890,7 @@ static int trace_frame(const options *o, world *w, double t0)
         if (rc == 0)
             rc = ks_interrupt_exit_status();
     } else if (rc == 0) {
-        progress_update(&pg, npix, true);
+        progress_update(&pg, npix, npix, true);
         rc = write_images(&tc, &s);
     }
     if (rc || sig) {

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "kernel/json.h"
 #include "kernel/stats.h"
 
 enum { ST_COUNTER, ST_REAL, ST_HIST, ST_FORMULA, ST_RATIO };
@@ -502,20 +503,6 @@ int ks_stats_value(const ks_stats *reg, const char *name, double *out)
 
 /* ---- output ---- */
 
-static void json_str(FILE *o, const char *s)
-{
-    fputc('"', o);
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        if (c == '"' || c == '\\')
-            fprintf(o, "\\%c", c);
-        else if (c < 32)
-            fprintf(o, "\\u%04x", c);
-        else
-            fputc(c, o);
-    }
-    fputc('"', o);
-}
 
 /* Shortest form that reads back to the same double. */
 static void fmt_real(char *buf, size_t cap, double v)
@@ -544,7 +531,7 @@ int ks_stats_write_json(const ks_stats *reg, FILE *o)
     for (unsigned i = 0; i < reg->n; i++) {
         const stat_entry *e = reg->e[i];
         fputs("  ", o);
-        json_str(o, e->name);
+        ks_json_string(o, e->name);
         fputs(": ", o);
         if (e->kind == ST_COUNTER)
             fprintf(o, "%llu", (unsigned long long)*e->u);
@@ -572,16 +559,16 @@ int ks_stats_write_json(const ks_stats *reg, FILE *o)
     fputs("  \"_units\": {", o);
     for (unsigned i = 0; i < reg->n; i++) {
         fputs(i ? ", " : "", o);
-        json_str(o, reg->e[i]->name);
+        ks_json_string(o, reg->e[i]->name);
         fputs(": ", o);
-        json_str(o, reg->e[i]->unit);
+        ks_json_string(o, reg->e[i]->unit);
     }
     fputs("},\n  \"_descriptions\": {", o);
     for (unsigned i = 0; i < reg->n; i++) {
         fputs(i ? ",\n    " : "\n    ", o);
-        json_str(o, reg->e[i]->name);
+        ks_json_string(o, reg->e[i]->name);
         fputs(": ", o);
-        json_str(o, reg->e[i]->desc);
+        ks_json_string(o, reg->e[i]->desc);
     }
     fputs(reg->n ? "\n  }\n}\n" : "}\n}\n", o);
     return ferror(o) ? -1 : 0;

@@ -1,10 +1,17 @@
 #!/usr/bin/env bash
-# BVH2 vs MBVH4 on scenes and ray types (paper Table 2's directions):
-# MRPS, DRAM traffic, cache hit rates, from rtsim's JSON statistics.
+# accel_table.sh — BVH2 vs MBVH4 on scenes and ray types (paper Table 2's
+# directions): MRPS, DRAM traffic, cache hit rates, from rtsim's JSON statistics.
 #   scripts/accel_table.sh [BUILD_DIR] [RES] [SCENE...]
-# Defaults: build, 1280x720, the four built-in scenes; RAYS="primary" limits the ray types. Prints a Markdown table
-# on stdout; the JSON of every run stays in BUILD_DIR/accel_table/.
+# Arguments:
+#   BUILD_DIR   the build whose bin/rtsim runs (default build)
+#   RES         resolution WxH of every run (default 1280x720)
+#   SCENE...    built-in names or scene files (default the four built-in scenes)
+#   -h, --help  this text
+# RAYS="primary" in the environment limits the ray types (default primary
+# and diffuse). Prints a Markdown table on stdout; the JSON of every run
+# stays in BUILD_DIR/accel_table/.
 set -euo pipefail
+case ${1:-} in -h|--help) awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"; exit 0 ;; esac
 cd "$(dirname "$0")/.."
 build=${1:-build}
 res=${2:-1280x720}

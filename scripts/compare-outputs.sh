@@ -5,6 +5,10 @@
 # leaves every output byte-identical.
 #
 #   scripts/compare-outputs.sh BIN_A BIN_B [WORK_DIR]
+# Arguments:
+#   BIN_A, BIN_B  the two folders of tools to compare
+#   WORK_DIR      where the outputs go (default a new temporary folder)
+#   -h, --help    this text
 #
 # BIN_A and BIN_B are folders holding rtsim, rttrace and rtdram (for example
 # a build of the old commit in a git worktree and build/bin). The set covers
@@ -22,7 +26,8 @@
 # Prints one line per run (same/DIFF) and ends with "N same, N differ";
 # exits 1 when anything differs.
 set -uo pipefail
-[ $# -ge 2 ] || { sed -n '2,21p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+case ${1:-} in -h|--help) awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"; exit 0 ;; esac
+[ $# -ge 2 ] || { awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"; exit 2; }
 bin_a=$(cd "$1" && pwd) || exit 2
 bin_b=$(cd "$2" && pwd) || exit 2
 work=${3:-$(mktemp -d)}

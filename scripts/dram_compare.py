@@ -70,9 +70,12 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--ref", default=None, help="reference folder (default: ../shared/ref/dram, see default_ref)")
     ap.add_argument("--find-ref", action="store_true", help="print the reference folder and exit (3 if absent)")
-    ap.add_argument("--traces", default=os.path.join(ROOT, "build", "traces"))
-    ap.add_argument("--rtdram", default=os.path.join(ROOT, "build", "bin", "rtdram"))
-    ap.add_argument("--config", default="A_x32_2ch_il32", choices=sorted(CONFIGS))
+    ap.add_argument("--traces", default=os.path.join(ROOT, "build", "traces"),
+                    help="folder of the request traces, made when missing (default build/traces)")
+    ap.add_argument("--rtdram", default=os.path.join(ROOT, "build", "bin", "rtdram"),
+                    help="the rtdram binary (default build/bin/rtdram)")
+    ap.add_argument("--config", default="A_x32_2ch_il32", choices=sorted(CONFIGS),
+                    help="the reference configuration to compare with (default %(default)s)")
     ap.add_argument("--generate-only", action="store_true", help="only make sure the traces exist, print their folder")
     ap.add_argument("--json", help="also write the comparison rows as JSON to this file")
     a = ap.parse_args()

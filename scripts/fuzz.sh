@@ -1,6 +1,11 @@
 #!/usr/bin/env bash
-# Fuzzes rtsim's input parsers with AFL++ (harnesses: testbench/fuzz/fuzz.h).
+# fuzz.sh — fuzzes rtsim's input parsers with AFL++ (harnesses: testbench/fuzz/fuzz.h).
 #   scripts/fuzz.sh AFL_BUILD_DIR SECONDS HARNESS...      (make fuzz runs it)
+# Arguments:
+#   AFL_BUILD_DIR  the build made with afl-cc (build/afl) holding fuzz/<harness>
+#   SECONDS        how long each harness runs
+#   HARNESS...     harness names (fuzz_<name>: testbench/fuzz/fuzz_<name>.c)
+#   -h, --help     this text
 # Each harness starts from testbench/fuzz/corpus/<harness>/ (plus the
 # project's own data files it reads: model/data/*.ini for the DRAM spec, the
 # machine presets for the machine harness, scenes/*.scene for the scene one)
@@ -10,6 +15,7 @@
 # their counts, and the script exits 1 when any harness crashed. A crash input
 # that is fixed belongs in corpus/<harness>/ so make test replays it.
 set -euo pipefail
+case ${1:-} in -h|--help) awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"; exit 0 ;; esac
 cd "$(dirname "$0")/.."
 [ $# -ge 3 ] || { echo "usage: scripts/fuzz.sh AFL_BUILD_DIR SECONDS HARNESS..." >&2; exit 2; }
 build=$1 seconds=$2; shift 2

@@ -1,6 +1,6 @@
 #!/usr/bin/env python3
-"""Prints the rtsim arguments, one a line, of the dump command written in a
-GTKWave view's header comment (waveforms/*.gtkw):
+"""gtkw_dump_args.py — prints the rtsim arguments, one a line, of the dump
+command written in a GTKWave view's header comment (waveforms/*.gtkw):
 
     [*]   build/bin/rtsim interior --res 64x36 --vcd waveforms/rtsim.vcd \\
     [*]       --vcd-window 0:5000 --vcd-filter 'trv0.*,ist.*,sched.*'
@@ -8,11 +8,17 @@ GTKWave view's header comment (waveforms/*.gtkw):
 
 so that the view's test (testbench/scripts/tb_waveform_views.sh) and its screenshot
 (scripts/render-waveform-views.sh) make the very dump the view documents.
-Usage: gtkw_dump_args.py VIEW.gtkw. Exit 2 when the header holds no
-"build/bin/rtsim ..." command."""
+Usage: gtkw_dump_args.py VIEW.gtkw
+Arguments:
+    VIEW.gtkw    the GTKWave view whose header comment holds the command
+    -h, --help   this text
+Exit 2 when the header holds no "build/bin/rtsim ..." command."""
 import shlex
 import sys
 
+if sys.argv[1:2] in (["-h"], ["--help"]):
+    print(__doc__)
+    sys.exit(0)
 if len(sys.argv) != 2:
     sys.exit("usage: gtkw_dump_args.py VIEW.gtkw")
 with open(sys.argv[1]) as f:

@@ -1,9 +1,15 @@
 #!/usr/bin/env bash
-# Installs the Debian packages listed in scripts/debian-packages.txt (or the
-# packages given as arguments, e.g. `install-deps.sh afl++` for make fuzz) that
-# are missing. As root it runs apt-get; otherwise it prints the exact command and
-# fails, so nothing half-works later with an obscure compiler error.
+# install-deps.sh — installs the Debian packages listed in
+# scripts/debian-packages.txt (or the packages given as arguments, e.g.
+# `install-deps.sh afl++` for make fuzz) that are missing. As root it runs
+# apt-get; otherwise it prints the exact command and fails, so nothing
+# half-works later with an obscure compiler error.
+#   scripts/install-deps.sh [PACKAGE...]
+# Arguments:
+#   PACKAGE...  Debian packages to install when missing (default: the list)
+#   -h, --help  this text
 set -euo pipefail
+case ${1:-} in -h|--help) awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"; exit 0 ;; esac
 here=$(cd "$(dirname "$0")" && pwd)
 if [ $# -gt 0 ]; then
   pkgs=("$@")

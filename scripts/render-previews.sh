@@ -3,7 +3,11 @@
 # (committed; referenced by docs/tracer-io.md and README). Uses
 # scripts/rt_preview.c, which goes through the tracer I/O API.
 #   scripts/render-previews.sh [BUILD_DIR]
+# Arguments:
+#   BUILD_DIR   the build to make and use scripts/rt_preview from (default build)
+#   -h, --help  this text
 set -euo pipefail
+case ${1:-} in -h|--help) awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"; exit 0 ;; esac
 cd "$(dirname "$0")/.."
 build=${1:-build}
 make -s "$build/scripts/rt_preview"

@@ -5,10 +5,14 @@
 # scripts/gtkw_dump_args.py), opens in GTKWave under Xvfb at its own [size],
 # and the screen is grabbed with xwd once GTKWave has drawn it.
 #   scripts/render-waveform-views.sh [BUILD_DIR]
+# Arguments:
+#   BUILD_DIR   the build whose bin/rtsim makes the dumps (default build)
+#   -h, --help  this text
 # Needs gtkwave, xvfb and xauth (scripts/debian-packages.txt) and, for the
 # grab only, x11-apps (xwd) and imagemagick (convert), installed here on
 # demand like afl++ for make fuzz.
 set -euo pipefail
+case ${1:-} in -h|--help) awk 'NR > 1 && !/^#/ { exit } NR > 1 { sub(/^# ?/, ""); print }' "$0"; exit 0 ;; esac
 cd "$(dirname "$0")/.."
 root=$PWD
 

@@ -26,17 +26,14 @@ import shutil
 import subprocess
 import sys
 
-# (CSV column, JSON key, divisor, chart label): the figures of merit, in the
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import rtsim_runs  # noqa: E402
+
+# (CSV column, JSON key, divisor, chart label): the figures of merit of
+# scripts/rtsim_runs.py (the experiment scripts' one table of them), in the
 # order of the paper's Table 2 (MRPS, mJ/frame, MRPS/mm2, DRAM MB), then area
 # and power. A figure whose JSON key no result has gets no column.
-FIGURES = [
-    ("mrps", "mrps", 1, "MRPS (million rays per second)"),
-    ("energy_mj", "energy_mj", 1, "energy per frame (mJ)"),
-    ("mrps_per_mm2", "mrps_per_mm2", 1, "MRPS/mm²"),
-    ("dram_mb", "dram_bytes", 1e6, "DRAM traffic (MB)"),
-    ("area_mm2", "area_mm2", 1, "area (mm²)"),
-    ("power_mw", "power_mw", 1, "average power (mW)"),
-]
+FIGURES = [(key, stat, divisor, label) for key, _, stat, divisor, label in rtsim_runs.FIGURES]
 # Always-present context columns (not charted).
 CONTEXT = [("rays_traced", "rays"), ("cycles", "cycles"), ("run_failed", "run_failed")]
 
@@ -64,8 +61,7 @@ def fmt(v):
 
 def figure(j, fig):
     """The figure of merit fig of result j, in the figure's unit, or None."""
-    v = j.get(fig[1])
-    return None if v is None else (v / fig[2] if fig[2] != 1 else v)
+    return rtsim_runs.figure(j, fig[0])
 
 
 def as_number(s):

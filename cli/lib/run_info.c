@@ -9,6 +9,7 @@
 #include "cli/run_info.h"
 #include "cli/version.h"
 #include "model/dram/dram_timing.h"
+#include "tracer/util/fnv1a.h"
 
 double cli_run_clock(clockid_t id)
 {
@@ -48,16 +49,6 @@ void cli_run_init(cli_run_info *ri, const char *tool, int argc, char **argv)
 
 /* ---- hashes ---- */
 
-static uint64_t cli_run_fnv1a64(uint64_t h, const void *data, size_t n)
-{
-    const unsigned char *p = data;
-    for (size_t i = 0; i < n; i++) {
-        h ^= p[i];
-        h *= 1099511628211ULL;
-    }
-    return h;
-}
-#define CLI_RUN_FNV_BASIS 14695981039346656037ULL
 
 static int cli_run_cmp_lines(const void *a, const void *b)
 {
@@ -71,10 +62,10 @@ static int cli_run_cmp_lines(const void *a, const void *b)
 uint64_t cli_run_hash_lines(char **lines, size_t n)
 {
     qsort(lines, n, sizeof *lines, cli_run_cmp_lines);
-    uint64_t h = CLI_RUN_FNV_BASIS;
+    uint64_t h = RT_FNV1A64_BASIS;
     for (size_t i = 0; i < n; i++) {
-        h = cli_run_fnv1a64(h, lines[i], strlen(lines[i]));
-        h = cli_run_fnv1a64(h, "\n", 1);
+        h = rt_fnv1a64(h, lines[i], strlen(lines[i]));
+        h = rt_fnv1a64(h, "\n", 1);
     }
     return h;
 }

@@ -1,5 +1,6 @@
 /* mesh.c — see mesh.h. */
 #include "tracer/io/mesh.h"
+#include "tracer/util/fnv1a.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -27,27 +28,15 @@ void rt_mesh_bounds(const rt_mesh *m, rt_vec3 *lo, rt_vec3 *hi)
     *hi = b;
 }
 
-/* FNV-1a 64-bit: offset basis 14695981039346656037, prime 1099511628211
- * (http://www.isthe.com/chongo/tech/comp/fnv/). */
-static uint64_t fnv1a(uint64_t h, const void *data, size_t n)
-{
-    const unsigned char *p = data;
-    for (size_t i = 0; i < n; i++) {
-        h ^= p[i];
-        h *= 1099511628211ULL;
-    }
-    return h;
-}
-
 uint64_t rt_mesh_hash(const rt_mesh *m)
 {
-    uint64_t h = 14695981039346656037ULL;
-    h = fnv1a(h, &m->nverts, sizeof m->nverts);
-    h = fnv1a(h, &m->ntris, sizeof m->ntris);
+    uint64_t h = RT_FNV1A64_BASIS;
+    h = rt_fnv1a64(h, &m->nverts, sizeof m->nverts);
+    h = rt_fnv1a64(h, &m->ntris, sizeof m->ntris);
     if (m->nverts)
-        h = fnv1a(h, m->verts, (size_t)m->nverts * sizeof *m->verts);
+        h = rt_fnv1a64(h, m->verts, (size_t)m->nverts * sizeof *m->verts);
     if (m->ntris)
-        h = fnv1a(h, m->tris, (size_t)m->ntris * 3 * sizeof *m->tris);
+        h = rt_fnv1a64(h, m->tris, (size_t)m->ntris * 3 * sizeof *m->tris);
     return h;
 }
 

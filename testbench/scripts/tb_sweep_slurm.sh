@@ -27,6 +27,13 @@ for c in ../shared/tools/local-slurm ../../shared/tools/local-slurm; do
 done
 [ -n "$tool" ] && [ -x "$tool" ] || skip "no local-slurm tool (set LOCAL_SLURM=path/to/local-slurm)"
 
+# One run of this test at a time on the machine: local-slurm's cluster is one
+# per machine, and a run that started it stops it at its end, under any other
+# run still waiting for its jobs (seen with two checkouts testing at once: the
+# other run's sbatch --wait hung until the program timeout). The lock sits
+# beside local-slurm's own folder.
+exec 9> "$(dirname "$(mktemp -u)")/rtsim-tb-sweep-slurm.lock"
+flock -w 600 9 || skip "another run of this test held the Slurm lock for 10 minutes"
 # A cluster that already runs (SLURM_CONF given, or local-slurm's own) is used
 # as it is; otherwise this test starts one and stops it at the end.
 started=0

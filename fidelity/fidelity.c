@@ -11,6 +11,7 @@
 #include "kernel/fork_pool.h"
 #include "fidelity/functional.h"
 #include "fidelity/subset.h"
+#include "fidelity/estimator.h"
 #include "fidelity/windowed.h"
 #include "model/mem/memsys_config.h"
 
@@ -224,6 +225,10 @@ static int run_model(const fid_job *job, const rtcfg *cfg, const uint32_t *map, 
 
 /* ---- own statistics registry (functional, sampled) ---------------------- */
 
+/* the most windows whose residuals the JSON carries (--windows goes to
+ * 4096; a sweep's paired estimate with more runs without them) */
+enum { FID_PAIRED_MAX_WINDOWS = 1024 };
+
 typedef struct fid_own {
     uint64_t cycles, rays, primaries, bounces, dram_bytes, visits, box_tests, leaves, tri_tests;
     double mrps, dram_gbs, energy_mj, l1_hit, l2_hit, prim_hit, row_hit;
@@ -236,6 +241,14 @@ typedef struct fid_own {
      * (model/energy/energy.h order) and each power's error estimate (%) */
     double unit_dyn_mj[EU_COUNT], unit_static_mj[EU_COUNT], unit_mj[EU_COUNT], unit_mw[EU_COUNT];
     double unit_mm2[EU_COUNT], unit_mw_err[EU_COUNT];
+    /* windowed: what a sweep's paired estimate needs (docs/fidelity.md
+     * "Paired estimates"): each window's residual per headline figure, in
+     * image order, as it enters the interval; the random errors beside it
+     * that do not pair (the lattice's and the start correction's, in
+     * quadrature, %); the bias bounds (%); the t of the interval */
+    double resid[FID_WIN_HEADLINE][FID_PAIRED_MAX_WINDOWS];
+    double other_err[FID_WIN_HEADLINE], bias_err[FID_WIN_HEADLINE], t95;
+    uint64_t paired_windows;
     const char *bound;
     bool has_func, is_sampled, is_windowed, has_units;
 } fid_own;
@@ -301,6 +314,28 @@ static int own_stats(fid_outcome *o)
         rc |= ks_stat_real_ref(st, "window.cold_fill_share", "ratio",
                                "fills into never-used ways of node L2 and primitive cache / their fills, in the windows",
                                &w->cold_share);
+        static const char *const fig[FID_WIN_HEADLINE] = {"mrps", "dram_mb", "energy_mj"};
+        rc |= ks_stat_counter_ref(st, "window.paired_windows", "windows",
+                                  "windows whose residuals follow (0: too many to list)", &w->paired_windows);
+        rc |= ks_stat_real_ref(st, "window.t95", "ratio", "Student t of the windows' 95% interval", &w->t95);
+        for (int k = 0; k < FID_WIN_HEADLINE; k++) {
+            char key[96], desc[200];
+            snprintf(key, sizeof key, "window.other_err.%s", fig[k]);
+            snprintf(desc, sizeof desc, "%s: the lattice's and the start correction's 95%% errors in quadrature",
+                     fig[k]);
+            rc |= ks_stat_real_ref(st, key, "%", desc, &w->other_err[k]);
+            snprintf(key, sizeof key, "window.bias_err.%s", fig[k]);
+            snprintf(desc, sizeof desc, "%s: the bias bounds (cold fills + floor)", fig[k]);
+            rc |= ks_stat_real_ref(st, key, "%", desc, &w->bias_err[k]);
+            for (uint64_t q = 0; q < w->paired_windows; q++) {
+                snprintf(key, sizeof key, "window.resid.%s.%llu", fig[k], (unsigned long long)q);
+                snprintf(desc, sizeof desc,
+                         "window %llu (image order): its residual of %s as it enters the interval, relative to "
+                         "the frame's figure",
+                         (unsigned long long)q, k == FID_WIN_CYCLES ? "the cycles" : fig[k]);
+                rc |= ks_stat_real_ref(st, key, "ratio", desc, &w->resid[k][q]);
+            }
+        }
     }
     /* windowed's Table 1 figures, under the full model's names
      * (model/energy/energy.c), so Table 1 reads either */
@@ -873,6 +908,17 @@ static void windowed_outcome(const fid_job *job, const fid_windowed *wd, fid_out
     w->windows = wd->windows, w->window_pixels = wd->window_pixels, w->warm_pixels = wd->warm_pixels;
     w->model_pixels = (uint64_t)wd->model_pixels, w->lattice_pixels = (uint64_t)wd->lattice_pixels;
     w->cold_share = wd->cold_share;
+    w->paired_windows = wd->resid && wd->windows <= FID_PAIRED_MAX_WINDOWS ? wd->windows : 0;
+    w->t95 = wd->t95;
+    for (int k = 0; k < FID_WIN_HEADLINE; k++) {
+        /* the rays' lattice error is left out: the same pixels give every
+         * machine the same rays, so it cancels in a change */
+        double lat = wd->lattice_err[k];
+        w->other_err[k] = 100.0 * sqrt(wd->start_err[k] * wd->start_err[k] + lat * lat);
+        w->bias_err[k] = 100.0 * bias[k];
+        for (uint64_t q = 0; q < w->paired_windows; q++)
+            w->resid[k][q] = wd->resid[(size_t)k * wd->windows + q];
+    }
     w->primaries = (uint64_t)wd->primaries;
     w->rays = (uint64_t)llround(wd->rays);
     w->bounces = w->rays - w->primaries;
@@ -935,10 +981,20 @@ static int run_windowed(const fid_job *job, double rate, uint32_t windows, fid_o
     return rc;
 }
 
-/* --accuracy, its first stage: windowed at the default plan, then (up to
- * twice) with as many more windows as its interval says the target needs,
- * the windows already run kept, while that stays within win_max_rate of the
- * frame. 0 and *picked when it meets acc; why: what it found otherwise. */
+/* --accuracy, its first stage, spending little before it knows (a
+ * fallback to full should cost at most a few percent over a plain full run):
+ *   1. a cold probe: one window after a win_warm_pixels warm-up from empty
+ *      caches (about 0.5% of a 1280x720 frame): where most of its fills are
+ *      still cold, the caches keep their lines for most of the frame
+ *      (primary rays: 43-100%), no window stands for the frame: give up;
+ *   2. a pilot: the lattice and the first win_pilot_windows windows of the
+ *      plan (kept if it goes on); its interval, scaled to the plan's
+ *      windows (1 / sqrt(windows) and the t of the pairs), predicts the
+ *      plan's estimate: beyond the target, give up;
+ *   3. the plan; within the target and not flagged: windowed; else once
+ *      more windows when the interval says at most twice the windows will
+ *      do, within win_max_rate of the frame.
+ * 0 and *picked when it meets acc; why: what it found otherwise. */
 static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *picked, char *why, size_t whylen,
                          char *err, size_t errlen)
 {
@@ -950,20 +1006,44 @@ static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *p
         snprintf(why, whylen, "windowed not tried: %s", small);
         return 0;
     }
-    /* a probe of 2 windows first (one per core): primary rays' warm-ups
-     * are never long enough, and the probe says so at 1/8 of the windows' cost */
-    int rc = fid_windowed_probe(job, job->sample_rate, job->windows, 2, &wd, err, errlen);
-    if (rc == 0 && wd.cold_share > fp->win_max_cold) {
-        snprintf(why, whylen, "windowed's probe of 2 windows: %.1f%% of the fills cold (warm-ups too short)",
-                 100.0 * wd.cold_share);
-        fid_windowed_free(&wd);
+    double cold = 0;
+    int rc = fid_windowed_cold_probe(job, &cold, err, errlen);
+    if (rc)
+        return rc;
+    if (cold > fp->win_probe_max_cold) {
+        snprintf(why, whylen,
+                 "windowed's probe: %.1f%% of the fills cold after a %.0f-pixel warm-up from empty caches (at most "
+                 "%.0f%%: the caches keep their lines for most of the frame)",
+                 100.0 * cold, fp->win_warm_pixels, 100.0 * fp->win_probe_max_cold);
         return 0;
     }
-    if (rc == 0)
+    rc = fid_windowed_probe(job, job->sample_rate, job->windows, (uint32_t)fp->win_pilot_windows, &wd, err, errlen);
+    double npix = (double)job->width * job->height;
+    if (rc == 0 && wd.windows < wd.planned) {
+        windowed_outcome(job, &wd, o);
+        double e[FID_WIN_FIGS], ci[FID_WIN_FIGS], other[FID_WIN_FIGS], bias[FID_WIN_FIGS], worst_pred = 0;
+        windowed_errors(&wd, e, ci, other, bias);
+        double shrink = sqrt((double)wd.windows / wd.planned) * fid_t95((int)(wd.planned / 2 + wd.planned % 2)) /
+                        fid_t95((int)(wd.windows / 2 + wd.windows % 2));
+        for (int k = 0; k < FID_WIN_HEADLINE; k++) {
+            double c = ci[k] * shrink;
+            worst_pred = fmax(worst_pred, sqrt(c * c + other[k] * other[k]) + bias[k]);
+        }
+        bool cold_flag = wd.cold_share > fp->win_max_cold;
+        if (cold_flag || worst_pred > acc) {
+            snprintf(why, whylen,
+                     "windowed's pilot of %u windows (%.1f%% of the pixels through the model): %s %.1f%%%s",
+                     wd.windows, 100.0 * wd.model_pixels / npix,
+                     cold_flag ? "cold fills" : "estimated error with the plan's windows about",
+                     cold_flag ? 100.0 * wd.cold_share : 100.0 * worst_pred, cold_flag ? " (warm-ups too short)" : "");
+            fid_windowed_free(&wd);
+            return 0;
+        }
         rc = fid_windowed_more(job, wd.planned, &wd, err, errlen);
+    }
     for (int step = 0; rc == 0; step++) {
         windowed_outcome(job, &wd, o);
-        double w = worst(&o->res), npix = (double)job->width * job->height;
+        double w = worst(&o->res);
         if (!o->res.unreliable && w <= acc) {
             *picked = true;
             snprintf(o->res.choice, sizeof o->res.choice,
@@ -975,12 +1055,12 @@ static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *p
         size_t n = strlen(why);
         snprintf(why + n, whylen - n, "%swindowed with %u windows: %.1f%%%s", n ? ", " : "", wd.windows, 100 * w,
                  o->res.unreliable ? " (flagged)" : "");
-        if (step == 2 || wd.too_small || wd.cold_share > fp->win_max_cold)
+        if (step == 1 || wd.too_small || wd.cold_share > fp->win_max_cold)
             break;
         /* the interval shrinks as 1 / sqrt(windows); the rest does not:
-         * the interval may grow to sqrt((acc - bias)^2 - other^2). The need
-         * from 16 windows (8 pairs) is itself uncertain, so the step is 2x
-         * to 4x and a need beyond twice the limit gives up at once */
+         * the interval may grow to sqrt((acc - bias)^2 - other^2). Only a
+         * need of at most twice the windows is tried: beyond it the
+         * attempt would cost more than it is likely to save */
         double e[FID_WIN_FIGS], ci[FID_WIN_FIGS], other[FID_WIN_FIGS], bias[FID_WIN_FIGS], scale = 1;
         windowed_errors(&wd, e, ci, other, bias);
         for (int k = 0; k < FID_WIN_HEADLINE; k++) {
@@ -992,10 +1072,9 @@ static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *p
             scale = fmax(scale, ci[k] * ci[k] / room2);
         }
         double per = (double)(wd.window_pixels + wd.warm_pixels) / npix;
-        if (scale <= 0 || wd.windows * scale * per > 2 * fp->win_max_rate)
+        if (scale <= 0 || scale > 2.0)
             break;
-        double next = fmin(fmax(scale, 2.0), 4.0) * wd.windows;
-        uint32_t more = (uint32_t)ceil(next / 2) * 2;   /* whole pairs (windowed.c) */
+        uint32_t more = (uint32_t)ceil(fmax(scale * 1.2, 1.25) * wd.windows / 2) * 2;   /* whole pairs */
         if (more * per > fp->win_max_rate)
             more = (uint32_t)floor(fp->win_max_rate / per / 2) * 2;
         if (more <= wd.windows)

@@ -60,6 +60,24 @@ static const fid_params defaults = {
     .win_err_floor = 0.005,
     .win_max_cold = 0.02,
     .win_max_rate = 0.4,
+    /* functional warming from the lattice's caches: on the 1280x720
+     * diffuse matrix (Morton order) cold fills 0.0-2.5% (bunny 8.6%)
+     * against 0.1-41% after 4096-pixel warm-ups from empty caches; 1024
+     * detailed pixels after it (512: interior MBVH4 cold fills 0.5%
+     * against 0.2%, estimates wider), which leaves room for 48 windows in
+     * 1/8 of the frame (docs/validation/fidelity-accuracy.md) */
+    .win_snapshot = 1,
+    .win_snap_warm_pixels = 1024,
+    .win_snap_count = 48,
+    /* --accuracy's cold probe: primary rays 43-100% cold after 4096
+     * pixels, the diffuse matrix 0.1-41%; over 10% windowed is not tried
+     * (where it was run anyway its estimates were 18-77%) */
+    .win_probe_pixels = 512,
+    .win_probe_max_cold = 0.10,
+    /* --accuracy's pilot: 8 windows (4 pairs) with the lattice, about 6% of
+     * a full run on interior diffuse; fewer pairs make the predicted
+     * interval too uncertain to decide on */
+    .win_pilot_windows = 8,
 };
 
 const fid_params *fid_params_get(void) { return &defaults; }

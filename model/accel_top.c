@@ -885,6 +885,21 @@ int accel_top_run_until(accel_top *t, uint64_t primaries, accel_point *p, char *
     return 0;
 }
 
+int accel_top_warm_caches(accel_top *t, const cache_core *const *l1, int nl1, const cache_core *l2,
+                          const cache_core *prim)
+{
+    if (!t->mem || nl1 != (int)t->p.trv_count)
+        return -1;
+    for (int i = 0; i < nl1; i++)
+        if (l1[i] && cache_core_copy_contents(memsys_node_l1(t->mem, i), l1[i]))
+            return -1;
+    if (l2 && cache_core_copy_contents(memsys_node_l2(t->mem), l2))
+        return -1;
+    if (prim && cache_core_copy_contents(memsys_prim(t->mem), prim))
+        return -1;
+    return 0;
+}
+
 const energy_result *accel_top_interval_energy(accel_top *t, const accel_point *a, const accel_point *b)
 {
     if (!t->energy)

@@ -69,11 +69,14 @@ static const fid_params defaults = {
     .win_snapshot = 1,
     .win_snap_warm_pixels = 1024,
     .win_snap_count = 48,
-    /* --accuracy's cold probe: primary rays 43-100% cold after 4096
-     * pixels, the diffuse matrix 0.1-41%; over 10% windowed is not tried
-     * (where it was run anyway its estimates were 18-77%) */
+    /* --accuracy's cold probe: over 5% windowed is not tried. With 10%,
+     * city primary MBVH4 and hairball primary BVH2 passed it, and their
+     * pilots (28.7% cold fills; a predicted 4.6%) cost 33% and 16% over
+     * the full run; the diffuse matrix's windows were 0.0-3.4% cold after
+     * 4096 pixels from empty caches except city (5.7%, 22%) and bunny
+     * (34%, 41%), whose estimates were 4-77% */
     .win_probe_pixels = 512,
-    .win_probe_max_cold = 0.10,
+    .win_probe_max_cold = 0.05,
     /* --accuracy's pilot: 8 windows (4 pairs) with the lattice, about 6% of
      * a full run on interior diffuse; fewer pairs make the predicted
      * interval too uncertain to decide on */

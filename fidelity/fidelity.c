@@ -165,31 +165,53 @@ typedef struct model_fig {
     double unit_dyn_mj[EU_DRAM];  /* dynamic energy of the units before DRAM (energy.h order: trv .. fifo) */
 } model_fig;
 
-static double stat(ks_stats *st, const char *name) { return ks_stats_value_or(st, name, 0.0); }
+/* A statistic the levels need: absent, it is a renamed one, which must not
+ * read as 0 (the first missing name is kept in *missing). */
+static double stat_need(ks_stats *st, const char *name, const char **missing)
+{
+    double v = 0;
+    if (ks_stats_value(st, name, &v) && !*missing)
+        *missing = name;
+    return v;
+}
 
-static void get_fig(accel_top *t, model_fig *f)
+/* The figures of a cycle-model run; 0, or -1 with the first statistic that
+ * is missing named in err. The energy figures are needed when the run has
+ * an energy model; the memory's when it has the LPDDR3 model (the fixed
+ * memory has neither rows nor a latency sum). */
+static int get_fig(accel_top *t, model_fig *f, char *err, size_t errlen)
 {
     ks_stats *st = accel_top_stats(t);
+    const char *missing = NULL, *opt = NULL;
+    char names[2 * EU_COUNT][64];
     memset(f, 0, sizeof *f);
-    f->cycles = stat(st, "cycles");
-    f->rays = stat(st, "rays");
-    f->mrps = stat(st, "mrps");
-    f->dram_bytes = stat(st, "dram_bytes");
-    f->energy_mj = stat(st, "energy_mj");
-    for (int u = 0; u < EU_COUNT; u++) {
-        char k[64];
-        snprintf(k, sizeof k, "energy.%s_static_mj", energy_unit_name((energy_unit)u));
-        f->static_mj += stat(st, k);
-        snprintf(k, sizeof k, "energy.%s_dynamic_mj", energy_unit_name((energy_unit)u));
+    f->cycles = stat_need(st, "cycles", &missing);
+    f->rays = stat_need(st, "rays", &missing);
+    f->mrps = stat_need(st, "mrps", &missing);
+    f->dram_bytes = stat_need(st, "dram_bytes", &missing);
+    f->dram_gbs = stat_need(st, "dram_bandwidth_gbs", &missing);
+    bool energy = ks_stats_value(st, "energy_mj", &f->energy_mj) == 0;
+    for (int u = 0; energy && u < EU_COUNT; u++) {
+        snprintf(names[2 * u], sizeof names[0], "energy.%s_static_mj", energy_unit_name((energy_unit)u));
+        f->static_mj += stat_need(st, names[2 * u], &missing);
+        snprintf(names[2 * u + 1], sizeof names[0], "energy.%s_dynamic_mj", energy_unit_name((energy_unit)u));
         if (u < EU_DRAM)
-            f->unit_dyn_mj[u] = stat(st, k);
+            f->unit_dyn_mj[u] = stat_need(st, names[2 * u + 1], &missing);
     }
-    f->dram_mj = stat(st, "energy.dram_mj");
-    f->dram_static_mj = stat(st, "energy.dram_static_mj");
-    f->mem_requests = stat(st, "memory.requests");
-    f->mem_latency = f->mem_requests > 0 ? stat(st, "memory.latency_sum") / f->mem_requests : 0;
-    f->dram_gbs = stat(st, "dram_bandwidth_gbs");
-    f->row_hit = stat(st, "dram.row_hit_rate");
+    if (energy) {
+        f->dram_mj = stat_need(st, "energy.dram_mj", &missing);
+        f->dram_static_mj = stat_need(st, "energy.dram_static_mj", &missing);
+    }
+    bool lpddr3 = ks_stats_value(st, "memory.requests", &f->mem_requests) == 0;
+    if (lpddr3) {
+        f->mem_latency = f->mem_requests > 0 ? stat_need(st, "memory.latency_sum", &missing) / f->mem_requests : 0;
+        f->row_hit = stat_need(st, "dram.row_hit_rate", &opt);   /* only with a row-level DRAM model */
+    }
+    if (missing) {
+        snprintf(err, errlen, "the model's statistic %s is missing (renamed?); the fidelity levels read it", missing);
+        return -1;
+    }
+    return 0;
 }
 
 /* Runs the cycle model with cfg on the pixels map[0..n) (map NULL: the
@@ -203,7 +225,8 @@ static int run_model_series(const fid_job *job, const rtcfg *cfg, const uint32_t
     if (fid_subset_open_series(&sub, job, cfg, map, n, tag, piece, tag, err, errlen))
         return 2;
     int rc = accel_top_run(sub.top, map ? NULL : job->progress, job->progress_user, err, errlen) ? 1 : 0;
-    get_fig(sub.top, fig);
+    if (get_fig(sub.top, fig, err, errlen) && rc == 0)
+        rc = 2;
     if (keep && rc == 0) {
         accel_top_detach_series(sub.top);
         *keep = sub.top;
@@ -1006,10 +1029,17 @@ static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *p
         snprintf(why, whylen, "windowed not tried: %s", small);
         return 0;
     }
-    double cold = 0;
-    int rc = fid_windowed_cold_probe(job, &cold, err, errlen);
+    double cold = 0, turnover = 0;
+    int rc = fid_windowed_cold_probe(job, &cold, &turnover, err, errlen);
     if (rc)
         return rc;
+    if (turnover < fp->win_probe_min_turnover) {
+        snprintf(why, whylen,
+                 "windowed's probe: the frame refills its node L2 and primitive cache about %.1f times (at least "
+                 "%.0f: below it the caches keep their lines for most of the frame, and no window stands for it)",
+                 turnover, fp->win_probe_min_turnover);
+        return 0;
+    }
     if (cold > fp->win_probe_max_cold) {
         snprintf(why, whylen,
                  "windowed's probe: %.1f%% of the fills cold after a %.0f-pixel warm-up from empty caches (at most "
@@ -1219,7 +1249,8 @@ int fid_run(const fid_job *job, fid_level level, double accuracy, fid_outcome *o
         if (o->top) {
             ks_stats *st = accel_top_stats(o->top);
             model_fig f;
-            get_fig(o->top, &f);
+            if (get_fig(o->top, &f, err, errlen))
+                return 2;
             o->cycles = f.cycles, o->rays = f.rays, o->mrps = f.mrps, o->dram_bytes = f.dram_bytes,
             o->energy_mj = f.energy_mj;
             if (fid_register_stats(&o->res, st)) {

@@ -77,6 +77,12 @@ static const fid_params defaults = {
      * (34%, 41%), whose estimates were 4-77% */
     .win_probe_pixels = 512,
     .win_probe_max_cold = 0.05,
+    /* the frame's projected L2 + primitive-cache fills over their lines:
+     * interior primary moves 0.77 MB (6K lines) through 3K lines of cache
+     * (about 2), interior diffuse 262 MB (about 700); with the cold share
+     * alone city, bunny and hairball BVH2 primary passed the probe and
+     * their pilots cost 12-45% over the full run */
+    .win_probe_min_turnover = 20,
     /* --accuracy's pilot: 8 windows (4 pairs) with the lattice, about 6% of
      * a full run on interior diffuse; fewer pairs make the predicted
      * interval too uncertain to decide on */

@@ -54,6 +54,8 @@ typedef struct fid_params {
     int win_snap_count;           /* with win_snapshot: windows of the default plan */
     double win_probe_pixels;      /* --accuracy's cold probe: pixels measured after its warm-up */
     double win_probe_max_cold;    /* --accuracy: the probe's cold-fill share beyond which windowed is not tried */
+    double win_probe_min_turnover; /* --accuracy: the frame's fills over the caches' lines (from the probe) below
+                                      which windowed is not tried */
     int win_pilot_windows;        /* --accuracy: windows run before predicting whether the plan can meet the target */
 } fid_params;
 

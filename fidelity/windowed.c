@@ -525,8 +525,9 @@ int fid_windowed_probe(const fid_job *job, double rate, uint32_t windows, uint32
     return rc;
 }
 
-int fid_windowed_cold_probe(const fid_job *job, double *cold_share, char *err, size_t errlen)
+int fid_windowed_cold_probe(const fid_job *job, double *cold_share, double *turnover, char *err, size_t errlen)
 {
+    *turnover = 0;
     const fid_params *fp = fid_params_get();
     win_plan pl;
     memset(&pl, 0, sizeof pl);
@@ -547,6 +548,12 @@ int fid_windowed_cold_probe(const fid_job *job, double *cold_share, char *err, s
     int rc = run_window(&pl, 1, &r, err, errlen);
     double fills = (double)(r.b.backed_fills - r.a.backed_fills);
     *cold_share = fills > 0 ? (double)(r.b.backed_cold_fills - r.a.backed_cold_fills) / fills : 0;
+    /* the frame's fills at the window's rate, in cache capacities (node L2
+     * + primitive cache lines) */
+    double cap = (double)rtcfg_int(job->cfg, "node_l2.size") / (double)rtcfg_int(job->cfg, "node_l2.line") +
+                 (double)rtcfg_int(job->cfg, "prim.size") / (double)rtcfg_int(job->cfg, "prim.line");
+    double measured = (double)(r.b.primaries - r.a.primaries);
+    *turnover = cap > 0 && measured > 0 ? fills / measured * (double)pl.npix / cap : 0;
     return rc;
 }
 

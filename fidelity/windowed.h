@@ -101,11 +101,13 @@ int fid_windowed_probe(const fid_job *job, double rate, uint32_t windows, uint32
                        char *err, size_t errlen);
 /* --accuracy's first look, before the lattice: one window of
  * win_probe_pixels after a win_warm_pixels warm-up from empty caches, in
- * this process; *cold_share: its fills into never-used ways / its fills.
- * Where most are cold even so (primary rays: the caches keep their lines
- * for most of a frame), no warm-up short of the frame makes the windows
- * stand for it. 0, 1 or 2 as fid_windowed_run. */
-int fid_windowed_cold_probe(const fid_job *job, double *cold_share, char *err, size_t errlen);
+ * this process; *cold_share: its fills into never-used ways / its fills;
+ * *turnover: the frame's node L2 and primitive cache fills at the
+ * window's rate over those caches' lines. Where most fills are cold, or
+ * the frame refills its caches only a few times (primary rays: the caches
+ * keep their lines for most of a frame), no window stands for the frame.
+ * 0, 1 or 2 as fid_windowed_run. */
+int fid_windowed_cold_probe(const fid_job *job, double *cold_share, double *turnover, char *err, size_t errlen);
 /* Runs windows up to `windows` in all (beyond the plan too: the positions
  * are a sequence, the earlier windows are kept) and the lattice if not yet
  * run, and estimates. */

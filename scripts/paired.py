@@ -7,9 +7,11 @@ estimates").
 
 DIR is a scripts/sweep folder (DIR/jobs.tsv, DIR/results/*.json). Points that
 share scene, ray type, resolution and fixed arguments form a group; within a
-group the baseline is the first point in jobs.tsv order, or the one whose
-machine and swept keys match --baseline (e.g. --baseline
-machine=bvh2,node_l1.size=4096). Writes DIR/paired.csv: per point and figure
+group the baseline is the first point in jobs.tsv order. With --baseline
+the baseline is the point whose keys match it, and the machine and swept
+keys it does not name split the groups further: --baseline
+node_l1.size=8192 compares each machine's sizes with its own 8 KB point,
+--baseline machine=bvh2,node_l1.size=8192 every point with one. Writes DIR/paired.csv: per point and figure
 of merit (MRPS, DRAM MB, mJ/frame) the value, its change against the
 baseline in percent, and the change's 95% half-width in percentage points.
 With --against FULLDIR (the same sweep at full fidelity) it adds the full
@@ -139,7 +141,11 @@ def write_paired(d, baseline=None, against=None):
     if against:
         _, fres = load(against)
         full = {tuple(p[1:-1]): j for p, j in fres}   # args (the fidelity) left out
-    group = lambda p: (p[col["scene"]], p[col["rays"]], p[col["res"]], p[col["set"]], p[col["args"]])
+    # a group shares scene, rays, resolution and fixed arguments, and (with
+    # --baseline) the machine and swept keys --baseline does not name: with
+    # --baseline node_l1.size=8192 each machine gets its own baseline
+    free = [k for k in ["machine"] + grid if want and k not in want]
+    group = lambda p: tuple(p[col[k]] for k in ["scene", "rays", "res", "set", "args"] + free)
     base = {}
     for p, j in res:
         g = group(p)

@@ -13,7 +13,8 @@ keys it does not name split the groups further: --baseline
 node_l1.size=8192 compares each machine's sizes with its own 8 KB point,
 --baseline machine=bvh2,node_l1.size=8192 every point with one. Writes DIR/paired.csv: per point and figure
 of merit (MRPS, DRAM MB, mJ/frame) the value, its change against the
-baseline in percent, and the change's 95% half-width in percentage points.
+baseline in percent, and the change's 95% half-width in percentage points;
+`unreliable` is 1 when either point is flagged.
 With --against FULLDIR (the same sweep at full fidelity) it adds the full
 model's change and the difference.
 
@@ -48,6 +49,11 @@ FIGS = [("mrps", "mrps", "error_estimate.mrps"), ("dram_mb", "dram_bytes", "erro
 # fidelity/estimator.c fid_t95)
 T95 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160, 2.145, 2.131,
        2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042]
+
+
+def die(msg):
+    print("paired: " + msg, file=sys.stderr)
+    sys.exit(2)
 
 
 def t95(dof):
@@ -101,12 +107,12 @@ def change(ja, jb, fig):
 def load(d):
     jobs = os.path.join(d, "jobs.tsv")
     if not os.path.isfile(jobs):
-        raise SystemExit("paired: %s not found (a scripts/sweep folder)" % jobs)
+        die("%s not found (a scripts/sweep folder)" % jobs)
     with open(jobs) as f:
         rows = [line.rstrip("\n").split("\t") for line in f if line.strip()]
     header, points = rows[0], rows[1:]
     if header[:6] != ["name", "scene", "rays", "machine", "res", "set"] or header[-1] != "args":
-        raise SystemExit("paired: %s:1: not a sweep job list" % jobs)
+        die("%s:1: not a sweep job list" % jobs)
     res = []
     for p in points:
         path = os.path.join(d, "results", p[0] + ".json")
@@ -122,7 +128,7 @@ def parse_baseline(text):
     out = {}
     for kv in text.split(","):
         if "=" not in kv:
-            raise SystemExit("paired: --baseline %s: expected KEY=VALUE[,KEY=VALUE..]" % text)
+            die("--baseline %s: expected KEY=VALUE[,KEY=VALUE..]" % text)
         k, v = kv.split("=", 1)
         out[k] = v
     return out
@@ -136,7 +142,7 @@ def write_paired(d, baseline=None, against=None):
     want = parse_baseline(baseline)
     for k in want:
         if k not in col or k in ("name", "scene", "rays", "res", "set", "args"):
-            raise SystemExit("paired: --baseline %s: allowed keys machine%s" % (k, "".join(", " + g for g in grid)))
+            die("--baseline %s: allowed keys machine%s" % (k, "".join(", " + g for g in grid)))
     full = {}
     if against:
         _, fres = load(against)
@@ -154,7 +160,7 @@ def write_paired(d, baseline=None, against=None):
             base[g] = (p, j)
     out = io.StringIO()
     w = csv.writer(out, lineterminator="\n")
-    cols = ["point", "scene", "rays", "machine", "res"] + grid + ["baseline", "fidelity"]
+    cols = ["point", "scene", "rays", "machine", "res"] + grid + ["baseline", "fidelity", "unreliable"]
     for c, _, _ in FIGS:
         cols += [c, c + "_change_pct", c + "_change_err_pt", c + "_paired"]
         if against:
@@ -165,7 +171,9 @@ def write_paired(d, baseline=None, against=None):
         b = base.get(group(p))
         if b is None:
             continue
-        row = [p[0], p[1], p[2], p[3], p[4]] + [p[col[g]] for g in grid] + [b[0][0], j.get("fidelity", "full")]
+        # a change is as reliable as its less reliable point
+        flagged = int(bool(j.get("unreliable")) or bool(b[1].get("unreliable")))
+        row = [p[0], p[1], p[2], p[3], p[4]] + [p[col[g]] for g in grid] + [b[0][0], j.get("fidelity", "full"), flagged]
         rec = {"point": p[0], "baseline": b[0][0]}
         for fig in FIGS:
             c, key, _ = fig

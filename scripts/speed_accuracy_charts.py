@@ -45,8 +45,9 @@ def draw(tool, out, runs, rows, levels, figures, res, gnuplot):
                     f.write("\n\n")
         ymax = max([float(x["speedup"]) for x in rows] + [2.0]) * 1.5
         xmax = max([float(x["true_err_" + key]) for x in rows] + [10.0]) * 1.5
-        for term, ext in (("pngcairo size %d,%d" % (420 * cols, 330 * nrows), "png"),
-                          ("svg size %d,%d" % (420 * cols, 330 * nrows), "svg")):
+        width = max(640, 420 * cols)   # the title needs the room with one panel
+        for term, ext in (("pngcairo size %d,%d" % (width, 330 * nrows), "png"),
+                          ("svg size %d,%d" % (width, 330 * nrows), "svg")):
             o = os.path.join(out, "speed-accuracy-%s.%s" % (key, ext))
             outs.append(o)
             s = ['set terminal %s\nset output "%s.tmp"\n' % (term, o),

@@ -69,6 +69,10 @@ static const fid_params defaults = {
     .win_snapshot = 1,
     .win_snap_warm_pixels = 1024,
     .win_snap_count = 48,
+    /* a snapshot takes 16 bytes per cache line: about 60 KB at the default
+     * caches, 48 windows 3 MB; a sweep to 64 MB caches would take 1.6 GB
+     * for 48 windows and is refused with a message instead */
+    .win_snap_max_bytes = 1e9,
     /* --accuracy's cold probe: over 5% windowed is not tried. With 10%,
      * city primary MBVH4 and hairball primary BVH2 passed it, and their
      * pilots (28.7% cold fills; a predicted 4.6%) cost 33% and 16% over

@@ -418,10 +418,7 @@ static int plan(const fid_job *job, double rate, uint32_t windows, fid_windowed 
         return 2;
     }
     out->windows = M, out->warm_pixels = pl->warm, out->window_pixels = pl->len;
-    /* snapshots for as many windows as --accuracy may grow to (win_max_rate
-     * of the frame), at least the plan's */
-    double most = fp->win_max_rate * (double)pl->npix / (double)(pl->len + pl->warm);
-    pl->max_windows = most > M ? (uint32_t)most : M;
+    pl->max_windows = M;
     return 0;
 }
 
@@ -445,6 +442,8 @@ bool fid_windowed_fits(const fid_job *job, double rate, uint32_t windows, char *
 static int run_more(const fid_job *job, struct fid_win_runs *r, uint32_t upto, bool lattice, fid_windowed *out,
                     char *err, size_t errlen)
 {
+    if (r->pl.snapshot && upto > r->pl.max_windows)
+        upto = r->pl.max_windows;   /* a window without the lattice's caches would start cold */
     if (upto > r->cap) {
         win_piece *nw = realloc(r->win, (size_t)upto * sizeof *nw);
         if (!nw) {
@@ -491,7 +490,21 @@ static int run_more(const fid_job *job, struct fid_win_runs *r, uint32_t upto, b
     return rc;
 }
 
-static int start_plan(const fid_job *job, double rate, uint32_t windows, fid_windowed *out, char *err, size_t errlen)
+/* Bytes of one snapshot of the machine's caches (tags and LRU stamps). */
+static double snap_bytes(const rtcfg *cfg)
+{
+    double lines = (double)rtcfg_int(cfg, "trv.count") * (double)rtcfg_int(cfg, "node_l1.size") /
+                       (double)rtcfg_int(cfg, "node_l1.line") +
+                   (double)rtcfg_int(cfg, "node_l2.size") / (double)rtcfg_int(cfg, "node_l2.line") +
+                   (double)rtcfg_int(cfg, "prim.size") / (double)rtcfg_int(cfg, "prim.line");
+    return 16.0 * lines + 4096.0;   /* a tag and a stamp per line, and the core's own tables */
+}
+
+/* growth: --accuracy may add windows (up to 2.4x the plan, auto_windowed,
+ * within win_max_rate of the frame): their snapshots are taken with the
+ * lattice's, as far as win_snap_max_bytes allows. */
+static int start_plan(const fid_job *job, double rate, uint32_t windows, bool growth, fid_windowed *out, char *err,
+                      size_t errlen)
 {
     memset(out, 0, sizeof *out);
     struct fid_win_runs *r = calloc(1, sizeof *r);
@@ -501,6 +514,20 @@ static int start_plan(const fid_job *job, double rate, uint32_t windows, fid_win
     }
     out->runs = r;
     int rc = plan(job, rate, windows, out, &r->pl, err, errlen);
+    if (rc == 0 && r->pl.snapshot) {
+        const fid_params *fp = fid_params_get();
+        win_plan *pl = &r->pl;
+        double per = snap_bytes(job->cfg), fit = fp->win_snap_max_bytes / per;
+        double most = fmin(fp->win_max_rate * (double)pl->npix / (double)(pl->len + pl->warm), 2.4 * pl->max_windows + 2);
+        if (fit < pl->max_windows) {
+            snprintf(err, errlen,
+                     "windowed: the caches' contents for %u windows would take %.0f MB (at most %.0f MB, "
+                     "win_snap_max_bytes): use fewer --windows, smaller caches or --fidelity full",
+                     pl->max_windows, per * pl->max_windows / 1e6, fp->win_snap_max_bytes / 1e6);
+            rc = 2;
+        } else if (growth)
+            pl->max_windows = (uint32_t)fmax(pl->max_windows, fmin(most, fit));
+    }
     if (rc == 0 && !rtsim_pixel_order(job->cfg, job->width, job->height, &r->order, err, errlen))
         rc = 2;
     r->pl.have_order = rc == 0, r->pl.order = r->order;
@@ -509,14 +536,14 @@ static int start_plan(const fid_job *job, double rate, uint32_t windows, fid_win
 
 int fid_windowed_run(const fid_job *job, double rate, uint32_t windows, fid_windowed *out, char *err, size_t errlen)
 {
-    int rc = start_plan(job, rate, windows, out, err, errlen);
+    int rc = start_plan(job, rate, windows, false, out, err, errlen);
     return rc ? rc : run_more(job, out->runs, out->windows, true, out, err, errlen);
 }
 
 int fid_windowed_probe(const fid_job *job, double rate, uint32_t windows, uint32_t count, fid_windowed *out,
                        char *err, size_t errlen)
 {
-    int rc = start_plan(job, rate, windows, out, err, errlen);
+    int rc = start_plan(job, rate, windows, true, out, err, errlen);
     if (rc)
         return rc;
     uint32_t planned = out->windows;

@@ -278,6 +278,10 @@ if [ "$(field "$tmp/winsmall.json" unreliable)" = 1 ] && echo "$out" | grep -q "
   pass fidelity_windowed_overlap_flagged
 else fail fidelity_windowed_overlap_flagged "$(echo "$out" | grep -E '^(fidelity|unrel)' | tr '\n' ' ')"; fi
 expect fidelity_bad_windows 2 "--windows 1: allowed range 2..4096" -- "$bin" --fidelity windowed --windows 1
+# a 1 GB node L2: the lattice's cache contents for every window would not
+# fit in win_snap_max_bytes: refused at once, with what to change
+expect fidelity_windowed_snapshots_too_big 2 "windowed: the caches' contents for 22 windows would take" -- \
+  "$bin" interior --res 640x360 --rays diffuse --fidelity windowed --set node_l2.size=1073741824 --set energy.enabled=false
 # At a size it is made for (interior 1280x720, diffuse, 4 bounces): every
 # figure within its estimate against the full model, not flagged, and
 # --accuracy 10% picks it. Release build only: the full run takes ~18 s.

@@ -1,16 +1,20 @@
-/* fidelity.c — the fidelity levels and the automatic choice (fidelity.h,
- * docs/fidelity.md). */
+/* fidelity.c — the fidelity levels (fidelity.h, docs/fidelity.md); the
+ * automatic choice of --accuracy is accuracy.c. */
 #include "fidelity/fidelity.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "frame/frame.h"
 #include "fidelity/fidelity_params.h"
+#include "fidelity/levels.h"
 #include "kernel/fork_pool.h"
+#include "kernel/json.h"
 #include "fidelity/functional.h"
 #include "fidelity/subset.h"
+#include "fidelity/estimator.h"
 #include "fidelity/windowed.h"
 #include "model/mem/memsys_config.h"
 
@@ -102,33 +106,26 @@ void fid_print_summary(const fid_result *r, FILE *out)
         fprintf(out, "accuracy    %s\n", r->choice);
 }
 
-/* JSON string escaping of the few characters our messages may hold. */
-static size_t json_str(char *buf, size_t len, const char *s)
-{
-    size_t n = 0;
-#define PUT(c) (n + 1 < len ? (void)(buf[n] = (c)) : (void)0, n++)
-    PUT('"');
-    for (; *s; s++) {
-        if (*s == '"' || *s == '\\')
-            PUT('\\');
-        if ((unsigned char)*s < 0x20)
-            continue;
-        PUT(*s);
-    }
-    PUT('"');
-#undef PUT
-    if (len)
-        buf[n < len ? n : len - 1] = 0;
-    return n;
-}
-
+/* The level's JSON members; strings through the project's one escaping
+ * (kernel/json.h: control characters as \u00XX). */
 void fid_json_strings(const fid_result *r, char *buf, size_t len)
 {
-    char a[2100], b[1100];
-    json_str(a, sizeof a, r->reason);
-    json_str(b, sizeof b, r->choice);
-    snprintf(buf, len, "  \"fidelity\": \"%s\",\n  \"unreliable_reason\": %s,\n  \"fidelity_choice\": %s,\n",
-             fid_level_name(r->level), a, b);
+    char *text = NULL;
+    size_t n = 0;
+    FILE *m = open_memstream(&text, &n);
+    if (!m) {
+        if (len)
+            buf[0] = 0;
+        return;
+    }
+    fprintf(m, "  \"fidelity\": \"%s\",\n  \"unreliable_reason\": ", fid_level_name(r->level));
+    ks_json_string(m, r->reason);
+    fputs(",\n  \"fidelity_choice\": ", m);
+    ks_json_string(m, r->choice);
+    fputs(",\n", m);
+    fclose(m);
+    snprintf(buf, len, "%s", text ? text : "");
+    free(text);
 }
 
 /* ---- pixel subsets: interleaved row bands ------------------------------- */
@@ -164,31 +161,53 @@ typedef struct model_fig {
     double unit_dyn_mj[EU_DRAM];  /* dynamic energy of the units before DRAM (energy.h order: trv .. fifo) */
 } model_fig;
 
-static double stat(ks_stats *st, const char *name) { return ks_stats_value_or(st, name, 0.0); }
+/* A statistic the levels need: absent, it is a renamed one, which must not
+ * read as 0 (the first missing name is kept in *missing). */
+static double stat_need(ks_stats *st, const char *name, const char **missing)
+{
+    double v = 0;
+    if (ks_stats_value(st, name, &v) && !*missing)
+        *missing = name;
+    return v;
+}
 
-static void get_fig(accel_top *t, model_fig *f)
+/* The figures of a cycle-model run; 0, or -1 with the first statistic that
+ * is missing named in err. The energy figures are needed when the run has
+ * an energy model; the memory's when it has the LPDDR3 model (the fixed
+ * memory has neither rows nor a latency sum). */
+static int get_fig(accel_top *t, model_fig *f, char *err, size_t errlen)
 {
     ks_stats *st = accel_top_stats(t);
+    const char *missing = NULL, *opt = NULL;
+    char names[2 * EU_COUNT][64];
     memset(f, 0, sizeof *f);
-    f->cycles = stat(st, "cycles");
-    f->rays = stat(st, "rays");
-    f->mrps = stat(st, "mrps");
-    f->dram_bytes = stat(st, "dram_bytes");
-    f->energy_mj = stat(st, "energy_mj");
-    for (int u = 0; u < EU_COUNT; u++) {
-        char k[64];
-        snprintf(k, sizeof k, "energy.%s_static_mj", energy_unit_name((energy_unit)u));
-        f->static_mj += stat(st, k);
-        snprintf(k, sizeof k, "energy.%s_dynamic_mj", energy_unit_name((energy_unit)u));
+    f->cycles = stat_need(st, "cycles", &missing);
+    f->rays = stat_need(st, "rays", &missing);
+    f->mrps = stat_need(st, "mrps", &missing);
+    f->dram_bytes = stat_need(st, "dram_bytes", &missing);
+    f->dram_gbs = stat_need(st, "dram_bandwidth_gbs", &missing);
+    bool energy = ks_stats_value(st, "energy_mj", &f->energy_mj) == 0;
+    for (int u = 0; energy && u < EU_COUNT; u++) {
+        snprintf(names[2 * u], sizeof names[0], "energy.%s_static_mj", energy_unit_name((energy_unit)u));
+        f->static_mj += stat_need(st, names[2 * u], &missing);
+        snprintf(names[2 * u + 1], sizeof names[0], "energy.%s_dynamic_mj", energy_unit_name((energy_unit)u));
         if (u < EU_DRAM)
-            f->unit_dyn_mj[u] = stat(st, k);
+            f->unit_dyn_mj[u] = stat_need(st, names[2 * u + 1], &missing);
     }
-    f->dram_mj = stat(st, "energy.dram_mj");
-    f->dram_static_mj = stat(st, "energy.dram_static_mj");
-    f->mem_requests = stat(st, "memory.requests");
-    f->mem_latency = f->mem_requests > 0 ? stat(st, "memory.latency_sum") / f->mem_requests : 0;
-    f->dram_gbs = stat(st, "dram_bandwidth_gbs");
-    f->row_hit = stat(st, "dram.row_hit_rate");
+    if (energy) {
+        f->dram_mj = stat_need(st, "energy.dram_mj", &missing);
+        f->dram_static_mj = stat_need(st, "energy.dram_static_mj", &missing);
+    }
+    bool lpddr3 = ks_stats_value(st, "memory.requests", &f->mem_requests) == 0;
+    if (lpddr3) {
+        f->mem_latency = f->mem_requests > 0 ? stat_need(st, "memory.latency_sum", &missing) / f->mem_requests : 0;
+        f->row_hit = stat_need(st, "dram.row_hit_rate", &opt);   /* only with a row-level DRAM model */
+    }
+    if (missing) {
+        snprintf(err, errlen, "the model's statistic %s is missing (renamed?); the fidelity levels read it", missing);
+        return -1;
+    }
+    return 0;
 }
 
 /* Runs the cycle model with cfg on the pixels map[0..n) (map NULL: the
@@ -202,7 +221,8 @@ static int run_model_series(const fid_job *job, const rtcfg *cfg, const uint32_t
     if (fid_subset_open_series(&sub, job, cfg, map, n, tag, piece, tag, err, errlen))
         return 2;
     int rc = accel_top_run(sub.top, map ? NULL : job->progress, job->progress_user, err, errlen) ? 1 : 0;
-    get_fig(sub.top, fig);
+    if (get_fig(sub.top, fig, err, errlen) && rc == 0)
+        rc = 2;
     if (keep && rc == 0) {
         accel_top_detach_series(sub.top);
         *keep = sub.top;
@@ -224,6 +244,10 @@ static int run_model(const fid_job *job, const rtcfg *cfg, const uint32_t *map, 
 
 /* ---- own statistics registry (functional, sampled) ---------------------- */
 
+/* the most windows whose residuals the JSON carries (--windows goes to
+ * 4096; a sweep's paired estimate with more runs without them) */
+enum { FID_PAIRED_MAX_WINDOWS = 1024 };
+
 typedef struct fid_own {
     uint64_t cycles, rays, primaries, bounces, dram_bytes, visits, box_tests, leaves, tri_tests;
     double mrps, dram_gbs, energy_mj, l1_hit, l2_hit, prim_hit, row_hit;
@@ -236,6 +260,14 @@ typedef struct fid_own {
      * (model/energy/energy.h order) and each power's error estimate (%) */
     double unit_dyn_mj[EU_COUNT], unit_static_mj[EU_COUNT], unit_mj[EU_COUNT], unit_mw[EU_COUNT];
     double unit_mm2[EU_COUNT], unit_mw_err[EU_COUNT];
+    /* windowed: what a sweep's paired estimate needs (docs/fidelity.md
+     * "Paired estimates"): each window's residual per headline figure, in
+     * image order, as it enters the interval; the random errors beside it
+     * that do not pair (the lattice's and the start correction's, in
+     * quadrature, %); the bias bounds (%); the t of the interval */
+    double resid[FID_WIN_HEADLINE][FID_PAIRED_MAX_WINDOWS];
+    double other_err[FID_WIN_HEADLINE], bias_err[FID_WIN_HEADLINE], t95;
+    uint64_t paired_windows;
     const char *bound;
     bool has_func, is_sampled, is_windowed, has_units;
 } fid_own;
@@ -301,6 +333,28 @@ static int own_stats(fid_outcome *o)
         rc |= ks_stat_real_ref(st, "window.cold_fill_share", "ratio",
                                "fills into never-used ways of node L2 and primitive cache / their fills, in the windows",
                                &w->cold_share);
+        static const char *const fig[FID_WIN_HEADLINE] = {"mrps", "dram_mb", "energy_mj"};
+        rc |= ks_stat_counter_ref(st, "window.paired_windows", "windows",
+                                  "windows whose residuals follow (0: too many to list)", &w->paired_windows);
+        rc |= ks_stat_real_ref(st, "window.t95", "ratio", "Student t of the windows' 95% interval", &w->t95);
+        for (int k = 0; k < FID_WIN_HEADLINE; k++) {
+            char key[96], desc[200];
+            snprintf(key, sizeof key, "window.other_err.%s", fig[k]);
+            snprintf(desc, sizeof desc, "%s: the lattice's and the start correction's 95%% errors in quadrature",
+                     fig[k]);
+            rc |= ks_stat_real_ref(st, key, "%", desc, &w->other_err[k]);
+            snprintf(key, sizeof key, "window.bias_err.%s", fig[k]);
+            snprintf(desc, sizeof desc, "%s: the bias bounds (cold fills + floor)", fig[k]);
+            rc |= ks_stat_real_ref(st, key, "%", desc, &w->bias_err[k]);
+            for (uint64_t q = 0; q < w->paired_windows; q++) {
+                snprintf(key, sizeof key, "window.resid.%s.%llu", fig[k], (unsigned long long)q);
+                snprintf(desc, sizeof desc,
+                         "window %llu (image order): its residual of %s as it enters the interval, relative to "
+                         "the frame's figure",
+                         (unsigned long long)q, k == FID_WIN_CYCLES ? "the cycles" : fig[k]);
+                rc |= ks_stat_real_ref(st, key, "ratio", desc, &w->resid[k][q]);
+            }
+        }
     }
     /* windowed's Table 1 figures, under the full model's names
      * (model/energy/energy.c), so Table 1 reads either */
@@ -630,7 +684,7 @@ static double energy_ratio(const model_fig *m, const fid_func *fs, const fid_fun
     return e;
 }
 
-static int run_functional(const fid_job *job, fid_outcome *o, fid_func *ff, char *err, size_t errlen)
+int fid_lv_functional(const fid_job *job, fid_outcome *o, fid_func *ff, char *err, size_t errlen)
 {
     const fid_params *fp = fid_params_get();
     fid_result *r = &o->res;
@@ -706,7 +760,7 @@ static double calibrate_miss_scale(const fid_job *job, fid_func *fs, double targ
  * estimator: model(sample) x functional(frame) / functional(sample)), the
  * groups' spread giving a Student-t 95% confidence interval. ff: the
  * functional pass of the frame (made here when ff->rays == 0). */
-static int run_sampled(const fid_job *job, double rate, fid_outcome *o, fid_func *ff, char *err, size_t errlen)
+int fid_lv_sampled(const fid_job *job, double rate, fid_outcome *o, fid_func *ff, char *err, size_t errlen)
 {
     const fid_params *fp = fid_params_get();
     fid_result *r = &o->res;
@@ -830,7 +884,7 @@ static int run_sampled(const fid_job *job, double rate, fid_outcome *o, fid_func
     return 0;
 }
 
-static double worst(const fid_result *r)
+double fid_lv_worst(const fid_result *r)
 {
     return fmax(r->err_mrps, fmax(r->err_dram_mb, r->err_energy_mj));
 }
@@ -844,7 +898,7 @@ static double worst(const fid_result *r)
  * The bias bounds add in full on top (*bias): the warm-up's (the windows'
  * fills into never-used cache ways: each may be a miss a warm cache would
  * not have made) and a floor. *other: the random part beside the interval. */
-static void windowed_errors(const fid_windowed *wd, double e[FID_WIN_FIGS], double sampling[FID_WIN_FIGS],
+void fid_lv_windowed_errors(const fid_windowed *wd, double e[FID_WIN_FIGS], double sampling[FID_WIN_FIGS],
                             double other[FID_WIN_FIGS], double bias[FID_WIN_FIGS])
 {
     const fid_params *fp = fid_params_get();
@@ -858,13 +912,13 @@ static void windowed_errors(const fid_windowed *wd, double e[FID_WIN_FIGS], doub
 }
 
 /* The outcome of a windowed estimate: figures, errors, method, flag. */
-static void windowed_outcome(const fid_job *job, const fid_windowed *wd, fid_outcome *o)
+void fid_lv_windowed_outcome(const fid_job *job, const fid_windowed *wd, fid_outcome *o)
 {
     const fid_params *fp = fid_params_get();
     fid_result *r = &o->res;
     r->level = FID_WINDOWED;
     double e[FID_WIN_FIGS], ci[FID_WIN_FIGS], other[FID_WIN_FIGS], bias[FID_WIN_FIGS];
-    windowed_errors(wd, e, ci, other, bias);
+    fid_lv_windowed_errors(wd, e, ci, other, bias);
     r->err_mrps = e[FID_WIN_CYCLES];
     r->err_dram_mb = e[FID_WIN_DRAM];
     r->err_energy_mj = e[FID_WIN_ENERGY];
@@ -873,6 +927,17 @@ static void windowed_outcome(const fid_job *job, const fid_windowed *wd, fid_out
     w->windows = wd->windows, w->window_pixels = wd->window_pixels, w->warm_pixels = wd->warm_pixels;
     w->model_pixels = (uint64_t)wd->model_pixels, w->lattice_pixels = (uint64_t)wd->lattice_pixels;
     w->cold_share = wd->cold_share;
+    w->paired_windows = wd->resid && wd->windows <= FID_PAIRED_MAX_WINDOWS ? wd->windows : 0;
+    w->t95 = wd->t95;
+    for (int k = 0; k < FID_WIN_HEADLINE; k++) {
+        /* the rays' lattice error is left out: the same pixels give every
+         * machine the same rays, so it cancels in a change */
+        double lat = wd->lattice_err[k];
+        w->other_err[k] = 100.0 * sqrt(wd->start_err[k] * wd->start_err[k] + lat * lat);
+        w->bias_err[k] = 100.0 * bias[k];
+        for (uint64_t q = 0; q < w->paired_windows; q++)
+            w->resid[k][q] = wd->resid[(size_t)k * wd->windows + q];
+    }
     w->primaries = (uint64_t)wd->primaries;
     w->rays = (uint64_t)llround(wd->rays);
     w->bounces = w->rays - w->primaries;
@@ -930,83 +995,12 @@ static int run_windowed(const fid_job *job, double rate, uint32_t windows, fid_o
     fid_windowed wd = {0};
     int rc = fid_windowed_run(job, rate, windows, &wd, err, errlen);
     if (rc == 0)
-        windowed_outcome(job, &wd, o);
+        fid_lv_windowed_outcome(job, &wd, o);
     fid_windowed_free(&wd);
     return rc;
 }
 
-/* --accuracy, its first stage: windowed at the default plan, then (up to
- * twice) with as many more windows as its interval says the target needs,
- * the windows already run kept, while that stays within win_max_rate of the
- * frame. 0 and *picked when it meets acc; why: what it found otherwise. */
-static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *picked, char *why, size_t whylen,
-                         char *err, size_t errlen)
-{
-    const fid_params *fp = fid_params_get();
-    fid_windowed wd = {0};
-    *picked = false;
-    char small[256];
-    if (!fid_windowed_fits(job, job->sample_rate, job->windows, small, sizeof small)) {
-        snprintf(why, whylen, "windowed not tried: %s", small);
-        return 0;
-    }
-    /* a probe of 2 windows first (one per core): primary rays' warm-ups
-     * are never long enough, and the probe says so at 1/8 of the windows' cost */
-    int rc = fid_windowed_probe(job, job->sample_rate, job->windows, 2, &wd, err, errlen);
-    if (rc == 0 && wd.cold_share > fp->win_max_cold) {
-        snprintf(why, whylen, "windowed's probe of 2 windows: %.1f%% of the fills cold (warm-ups too short)",
-                 100.0 * wd.cold_share);
-        fid_windowed_free(&wd);
-        return 0;
-    }
-    if (rc == 0)
-        rc = fid_windowed_more(job, wd.planned, &wd, err, errlen);
-    for (int step = 0; rc == 0; step++) {
-        windowed_outcome(job, &wd, o);
-        double w = worst(&o->res), npix = (double)job->width * job->height;
-        if (!o->res.unreliable && w <= acc) {
-            *picked = true;
-            snprintf(o->res.choice, sizeof o->res.choice,
-                     "--accuracy %.3g%%: picked windowed, %u windows (%.1f%% of the pixels through the model; "
-                     "estimated error %.1f%%)",
-                     100 * acc, wd.windows, 100.0 * wd.model_pixels / npix, 100 * w);
-            break;
-        }
-        size_t n = strlen(why);
-        snprintf(why + n, whylen - n, "%swindowed with %u windows: %.1f%%%s", n ? ", " : "", wd.windows, 100 * w,
-                 o->res.unreliable ? " (flagged)" : "");
-        if (step == 2 || wd.too_small || wd.cold_share > fp->win_max_cold)
-            break;
-        /* the interval shrinks as 1 / sqrt(windows); the rest does not:
-         * the interval may grow to sqrt((acc - bias)^2 - other^2). The need
-         * from 16 windows (8 pairs) is itself uncertain, so the step is 2x
-         * to 4x and a need beyond twice the limit gives up at once */
-        double e[FID_WIN_FIGS], ci[FID_WIN_FIGS], other[FID_WIN_FIGS], bias[FID_WIN_FIGS], scale = 1;
-        windowed_errors(&wd, e, ci, other, bias);
-        for (int k = 0; k < FID_WIN_HEADLINE; k++) {
-            double rest = acc - bias[k], room2 = rest * rest - other[k] * other[k];
-            if (rest <= 0 || room2 <= 0.01 * acc * acc) {
-                scale = 0;
-                break;
-            }
-            scale = fmax(scale, ci[k] * ci[k] / room2);
-        }
-        double per = (double)(wd.window_pixels + wd.warm_pixels) / npix;
-        if (scale <= 0 || wd.windows * scale * per > 2 * fp->win_max_rate)
-            break;
-        double next = fmin(fmax(scale, 2.0), 4.0) * wd.windows;
-        uint32_t more = (uint32_t)ceil(next / 2) * 2;   /* whole pairs (windowed.c) */
-        if (more * per > fp->win_max_rate)
-            more = (uint32_t)floor(fp->win_max_rate / per / 2) * 2;
-        if (more <= wd.windows)
-            break;
-        rc = fid_windowed_more(job, more, &wd, err, errlen);
-    }
-    fid_windowed_free(&wd);
-    return rc;
-}
-
-static int run_full(const fid_job *job, fid_outcome *o, char *err, size_t errlen)
+int fid_lv_full(const fid_job *job, fid_outcome *o, char *err, size_t errlen)
 {
     model_fig f;
     o->res.level = FID_FULL;
@@ -1019,7 +1013,7 @@ static int run_full(const fid_job *job, fid_outcome *o, char *err, size_t errlen
 /* An empty outcome with its own figures' storage (any storage it had freed
  * first): for one level's run, and for each of --accuracy's trials. 0, or
  * -1 with a message when out of memory. */
-static int fresh_trial(fid_outcome *t, double acc, char *err, size_t errlen)
+int fid_lv_fresh_trial(fid_outcome *t, double acc, char *err, size_t errlen)
 {
     free(t->own);
     memset(t, 0, sizeof *t);
@@ -1031,116 +1025,35 @@ static int fresh_trial(fid_outcome *t, double acc, char *err, size_t errlen)
     return 0;
 }
 
-/* --accuracy: windowed when its estimates fit (with more windows if its
- * interval says so, auto_windowed); else functional when its estimates
- * fit; else sampled, at a rate raised (once) to what its first interval
- * says the bound needs; else full (docs/fidelity.md "--accuracy P%"). */
-static int run_auto(const fid_job *job, double acc, fid_outcome *o, char *err, size_t errlen)
-{
-    const fid_params *fp = fid_params_get();
-    fid_func ff;
-    memset(&ff, 0, sizeof ff);
-    fid_outcome trial = {0};
-    if (fresh_trial(&trial, acc, err, errlen))
-        return 2;
-    char why[400] = "";
-    int rc = 0;
-    /* A level whose estimate can never come under the target is not tried:
-     * its error floor is known before it runs (functional: func_err_base on
-     * MRPS; sampled: the floor plus the DRAM bias bound on DRAM MB;
-     * fidelity_params.h). Trying it anyway made --accuracy 2% cost 1.3-1.7x a
-     * full run (docs/fidelity.md). */
-    double func_floor = fp->func_err_base, sample_floor = fp->sample_err_floor + fp->sample_err_dram;
-    bool picked;
-    if ((rc = auto_windowed(job, acc, &trial, &picked, why, sizeof why, err, errlen)))
-        goto out;
-    if (picked) {
-        *o = trial;
-        return 0;
-    }
-    if (fresh_trial(&trial, acc, err, errlen))
-        return 2;
-    if (acc >= func_floor) {
-        if ((rc = run_functional(job, &trial, &ff, err, errlen)))
-            goto out;
-        if (!trial.res.unreliable && worst(&trial.res) <= acc) {
-            *o = trial;
-            snprintf(o->res.choice, sizeof o->res.choice,
-                     "--accuracy %.3g%%: picked functional (estimated error %.1f%%)", 100 * acc, 100 * worst(&o->res));
-            return 0;
-        }
-        size_t n = strlen(why);
-        snprintf(why + n, sizeof why - n, "; functional's estimate %.1f%%%s", 100 * worst(&trial.res),
-                 trial.res.unreliable ? " (flagged)" : "");
-    } else {
-        size_t n = strlen(why);
-        snprintf(why + n, sizeof why - n, "; functional not tried: its error floor is %.1f%%", 100 * func_floor);
-    }
-    if (acc < sample_floor) {
-        size_t n = strlen(why);
-        snprintf(why + n, sizeof why - n, "; sampled not tried: its DRAM MB error floor is %.1f%%",
-                 100 * sample_floor);
-    }
-    double rate = job->sample_rate > 0 ? job->sample_rate : fp->sample_rate;
-    for (int attempt = 0; attempt < 2 && acc >= sample_floor; attempt++) {
-        if (fresh_trial(&trial, acc, err, errlen))
-            return 2;
-        if ((rc = run_sampled(job, rate, &trial, &ff, err, errlen)))
-            goto out;
-        double w = worst(&trial.res);
-        if (!trial.res.unreliable && w <= acc) {
-            *o = trial;
-            snprintf(o->res.choice, sizeof o->res.choice,
-                     "--accuracy %.3g%%: picked sampled at %.2f%% of the pixels (estimated error %.1f%%; %s)",
-                     100 * acc, 100 * rate, 100 * w, why);
-            return 0;
-        }
-        size_t n = strlen(why);
-        snprintf(why + n, sizeof why - n, ", sampled at %.2f%%: %.1f%%", 100 * rate, 100 * w);
-        /* the interval shrinks as 1/sqrt(sample): the rate the bound needs */
-        double need = rate * (w / acc) * (w / acc) * 1.3;
-        if (need > 0.35 || attempt == 1)
-            break;
-        rate = need;
-    }
-    free(trial.own);
-    trial.own = NULL;
-    rc = run_full(job, o, err, errlen);
-    snprintf(o->res.choice, sizeof o->res.choice, "--accuracy %.3g%%: fell back to full (%s)", 100 * acc, why);
-    return rc;
-out:
-    free(trial.own);
-    return rc;
-}
-
 int fid_run(const fid_job *job, fid_level level, double accuracy, fid_outcome *o, char *err, size_t errlen)
 {
     memset(o, 0, sizeof *o);
     int rc;
     if (accuracy > 0) {
-        rc = run_auto(job, accuracy, o, err, errlen);
+        rc = fid_accuracy_run(job, accuracy, o, err, errlen);
         o->res.accuracy = accuracy;
     } else {
-        if (fresh_trial(o, 0, err, errlen))
+        if (fid_lv_fresh_trial(o, 0, err, errlen))
             return 2;
         fid_func ff;
         memset(&ff, 0, sizeof ff);
         switch (level) {
         case FID_FIXED_MEM: rc = run_fixed_mem(job, o, err, errlen); break;
-        case FID_FUNCTIONAL: rc = run_functional(job, o, &ff, err, errlen); break;
+        case FID_FUNCTIONAL: rc = fid_lv_functional(job, o, &ff, err, errlen); break;
         case FID_WINDOWED: rc = run_windowed(job, job->sample_rate, job->windows, o, err, errlen); break;
         case FID_SAMPLED:
-            rc = run_sampled(job, job->sample_rate > 0 ? job->sample_rate : fid_params_get()->sample_rate, o, &ff,
+            rc = fid_lv_sampled(job, job->sample_rate > 0 ? job->sample_rate : fid_params_get()->sample_rate, o, &ff,
                              err, errlen);
             break;
-        default: rc = run_full(job, o, err, errlen); break;
+        default: rc = fid_lv_full(job, o, err, errlen); break;
         }
     }
     if (rc == 0 || o->top) {
         if (o->top) {
             ks_stats *st = accel_top_stats(o->top);
             model_fig f;
-            get_fig(o->top, &f);
+            if (get_fig(o->top, &f, err, errlen))
+                return 2;
             o->cycles = f.cycles, o->rays = f.rays, o->mrps = f.mrps, o->dram_bytes = f.dram_bytes,
             o->energy_mj = f.energy_mj;
             if (fid_register_stats(&o->res, st)) {

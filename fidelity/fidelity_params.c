@@ -60,6 +60,37 @@ static const fid_params defaults = {
     .win_err_floor = 0.005,
     .win_max_cold = 0.02,
     .win_max_rate = 0.4,
+    /* functional warming from the lattice's caches: on the 1280x720
+     * diffuse matrix (Morton order) cold fills 0.0-2.5% (bunny 8.6%)
+     * against 0.1-41% after 4096-pixel warm-ups from empty caches; 1024
+     * detailed pixels after it (512: interior MBVH4 cold fills 0.5%
+     * against 0.2%, estimates wider), which leaves room for 48 windows in
+     * 1/8 of the frame (docs/validation/fidelity-accuracy.md) */
+    .win_snapshot = 1,
+    .win_snap_warm_pixels = 1024,
+    .win_snap_count = 48,
+    /* a snapshot takes 16 bytes per cache line: about 60 KB at the default
+     * caches, 48 windows 3 MB; a sweep to 64 MB caches would take 1.6 GB
+     * for 48 windows and is refused with a message instead */
+    .win_snap_max_bytes = 1e9,
+    /* --accuracy's cold probe: over 5% windowed is not tried. With 10%,
+     * city primary MBVH4 and hairball primary BVH2 passed it, and their
+     * pilots (28.7% cold fills; a predicted 4.6%) cost 33% and 16% over
+     * the full run; the diffuse matrix's windows were 0.0-3.4% cold after
+     * 4096 pixels from empty caches except city (5.7%, 22%) and bunny
+     * (34%, 41%), whose estimates were 4-77% */
+    .win_probe_pixels = 512,
+    .win_probe_max_cold = 0.05,
+    /* the frame's projected L2 + primitive-cache fills over their lines:
+     * interior primary moves 0.77 MB (6K lines) through 3K lines of cache
+     * (about 2), interior diffuse 262 MB (about 700); with the cold share
+     * alone city, bunny and hairball BVH2 primary passed the probe and
+     * their pilots cost 12-45% over the full run */
+    .win_probe_min_turnover = 20,
+    /* --accuracy's pilot: 8 windows (4 pairs) with the lattice, about 6% of
+     * a full run on interior diffuse; fewer pairs make the predicted
+     * interval too uncertain to decide on */
+    .win_pilot_windows = 8,
 };
 
 const fid_params *fid_params_get(void) { return &defaults; }

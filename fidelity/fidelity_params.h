@@ -49,6 +49,15 @@ typedef struct fid_params {
     double win_err_floor;         /* added to every estimate: boundary effects of the windows */
     double win_max_cold;          /* share of cold fills in the windows beyond which the warm-ups are too short */
     double win_max_rate;          /* --accuracy: most of the frame the windows may take before full is cheaper */
+    int win_snapshot;             /* 1: functional warming: each window's caches start from the lattice's */
+    double win_snap_warm_pixels;  /* with win_snapshot: the detailed warm-up after the caches are loaded */
+    int win_snap_count;           /* with win_snapshot: windows of the default plan */
+    double win_snap_max_bytes;    /* with win_snapshot: memory the windows' cache contents may take */
+    double win_probe_pixels;      /* --accuracy's cold probe: pixels measured after its warm-up */
+    double win_probe_max_cold;    /* --accuracy: the probe's cold-fill share beyond which windowed is not tried */
+    double win_probe_min_turnover; /* --accuracy: the frame's fills over the caches' lines (from the probe) below
+                                      which windowed is not tried */
+    int win_pilot_windows;        /* --accuracy: windows run before predicting whether the plan can meet the target */
 } fid_params;
 
 const fid_params *fid_params_get(void);

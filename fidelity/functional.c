@@ -267,6 +267,46 @@ int fid_functional_run(const fid_job *job, const uint32_t *pixels, uint32_t npix
 int fid_functional_run_attributed(const fid_job *job, const uint32_t *pixels, uint32_t npix, fid_func *out,
                                   fid_func_attr *attr, char *err, size_t errlen)
 {
+    return fid_functional_run_snap(job, pixels, npix, out, attr, NULL, 0, err, errlen);
+}
+
+void fid_functional_snap_free(fid_func_snap *s)
+{
+    for (uint32_t i = 0; i < s->ntrv && i < FID_MAX_TRV; i++)
+        cache_core_destroy(s->l1[i]);
+    cache_core_destroy(s->l2);
+    cache_core_destroy(s->prim);
+    memset(s->l1, 0, sizeof s->l1);
+    s->l2 = s->prim = NULL;
+}
+
+/* A copy of c's contents in a new core, or NULL. */
+static cache_core *clone_core(const cache_core *c)
+{
+    char err[160];
+    cache_core *d = cache_core_create(cache_core_get_params(c), err, sizeof err);
+    if (d && cache_core_copy_contents(d, c)) {
+        cache_core_destroy(d);
+        d = NULL;
+    }
+    return d;
+}
+
+static int take_snap(fn_state *st, uint32_t ntrv, fid_func_snap *s)
+{
+    s->ntrv = ntrv;
+    bool ok = true;
+    for (uint32_t i = 0; i < ntrv; i++)
+        ok = (s->l1[i] = clone_core(st->l1[i])) != NULL && ok;
+    ok = (s->l2 = clone_core(st->l2)) != NULL && ok;
+    ok = (s->prim = clone_core(st->prim)) != NULL && ok;
+    return ok ? 0 : -1;
+}
+
+int fid_functional_run_snap(const fid_job *job, const uint32_t *pixels, uint32_t npix, fid_func *out,
+                            fid_func_attr *attr, fid_func_snap *snaps, uint32_t nsnap, char *err, size_t errlen)
+{
+    uint32_t snap_next = 0;
     fn_state st;
     memset(&st, 0, sizeof st);
     memset(out, 0, sizeof *out);
@@ -351,6 +391,9 @@ int fid_functional_run_attributed(const fid_job *job, const uint32_t *pixels, ui
                     continue;
                 }
             }
+            while (snap_next < nsnap && next_primary >= snaps[snap_next].at)
+                if (take_snap(&st, ntrv, &snaps[snap_next++]))
+                    st.oom = true;
             if (next_primary < total) {
                 uint64_t p = pixels ? pixels[next_primary] : next_primary;
                 s->path = (uint32_t)next_primary, s->bounce = false;

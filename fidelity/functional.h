@@ -71,6 +71,21 @@ typedef float fid_func_attr[FID_ATTR_COUNT];
 int fid_functional_run_attributed(const fid_job *job, const uint32_t *pixels, uint32_t npix, fid_func *out,
                                   fid_func_attr *attr, char *err, size_t errlen);
 
+/* A copy of the run's caches' contents (tags and LRU order) taken when
+ * the run was about to admit the primary at list position `at`: the
+ * windowed level's functional warming (windowed.c). */
+typedef struct fid_func_snap {
+    uint32_t at;                  /* set by the caller */
+    uint32_t ntrv;
+    cache_core *l1[FID_MAX_TRV], *l2, *prim;   /* NULL until taken */
+} fid_func_snap;
+
+/* fid_functional_run_attributed that also fills snaps[0..nsnap) (their
+ * `at` ascending); fid_functional_snap_free() frees them. */
+int fid_functional_run_snap(const fid_job *job, const uint32_t *pixels, uint32_t npix, fid_func *out,
+                            fid_func_attr *attr, fid_func_snap *snaps, uint32_t nsnap, char *err, size_t errlen);
+void fid_functional_snap_free(fid_func_snap *s);
+
 /* Recomputes the throughput model of f's counts with every miss's wait
  * multiplied by miss_scale (sampled: fitted so that the functional cycles
  * of a sample match the cycle model's). */

@@ -6,6 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "fidelity/estimator.h"
 #include "fidelity/fidelity_params.h"
 #include "fidelity/functional.h"
 #include "fidelity/subset.h"
@@ -15,35 +16,28 @@
 #include "tracer/trace/camera.h"
 #include "tracer/trace/traverse.h"
 
-double fid_t95(int dof)
-{
-    /* two-sided 95% quantiles of Student's t (any statistics table) */
-    static const double t[] = {12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228,
-                               2.201,  2.179, 2.160, 2.145, 2.131, 2.120, 2.110, 2.101, 2.093, 2.086,
-                               2.080,  2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042};
-    if (dof < 1)
-        return t[0];
-    if (dof <= 30)
-        return t[dof - 1];
-    return dof <= 60 ? 2.000 : 1.960;
-}
-
 /* ---- the traversal work of a pixel's path ------------------------------- */
 
 typedef struct path_tracer {
     const fid_job *job;
     rt_camera cam;
-    uint32_t *order;   /* the frame's pixel order (frame.h); NULL: scanline */
+    const uint32_t *order;   /* the frame's pixel order (frame.h); NULL: scanline */
+    uint32_t *own;           /* order, when computed here */
     rt_trv_params tp;
 } path_tracer;
 
-static int path_tracer_init(path_tracer *pt, const fid_job *job, char *err, size_t errlen)
+/* order: the frame's pixel order when the caller has it (have_order; NULL
+ * then means scanline), else computed here (a Morton order of a 1280x720
+ * frame took 14% of a windowed run when each of 48 windows made its own) */
+static int path_tracer_init(path_tracer *pt, const fid_job *job, bool have_order, const uint32_t *order, char *err,
+                            size_t errlen)
 {
     memset(pt, 0, sizeof *pt);
     pt->job = job;
     if (!rt_camera_init(&pt->cam, job->view, job->width, job->height, err, errlen) ||
-        !rtsim_pixel_order(job->cfg, job->width, job->height, &pt->order, err, errlen))
+        (!have_order && !rtsim_pixel_order(job->cfg, job->width, job->height, &pt->own, err, errlen)))
         return 2;
+    pt->order = have_order ? order : pt->own;
     accel_params ap;
     accel_params_get(job->cfg, &ap);
     rtsim_trv_params(&ap, job->img->width, &pt->tp);
@@ -52,8 +46,8 @@ static int path_tracer_init(path_tracer *pt, const fid_job *job, char *err, size
 
 static void path_tracer_free(path_tracer *pt)
 {
-    free(pt->order);
-    pt->order = NULL;
+    free(pt->own);
+    pt->own = NULL, pt->order = NULL;
 }
 
 /* The traversal work of pixel p's path (node visits + triangle tests, the
@@ -78,11 +72,20 @@ static void path_work(const path_tracer *pt, uint32_t p, double work[2])
 
 /* ---- the pieces ----------------------------------------------------------- */
 
+struct win_lattice;
 typedef struct win_plan {
     const fid_job *job;
     uint32_t first, count;        /* pieces first..first+count-1 are windows */
     uint32_t warm, len, lattice_period;
     uint64_t npix;
+    /* functional warming: each window's caches start from the lattice's at
+     * its warm-up's first pixel (win_snapshot); snapshots for windows
+     * 0..max_windows-1 are taken while the lattice runs */
+    bool snapshot;
+    uint32_t max_windows;
+    bool have_order;              /* order holds the frame's pixel order (NULL: scanline) */
+    const uint32_t *order;
+    const struct win_lattice *lat;
 } win_plan;
 
 /* What a window hands back (plain data). */
@@ -103,6 +106,9 @@ typedef struct win_lattice {
     double n, x[FID_AUX_COUNT], xx[FID_AUX_COUNT][FID_AUX_COUNT], r, r2;
     double *cum;                  /* cum[p]: DRAM lines of the lattice's pixels before pixel p */
     uint32_t *ncum;               /* ncum[p]: lattice pixels before pixel p */
+    fid_func_snap *snaps;         /* nsnap of them, ascending in `at` */
+    uint32_t *snap_of;            /* window i's snapshot: snaps[snap_of[i]] (i < nsnap) */
+    uint32_t nsnap;
 } win_lattice;
 
 /* The radical inverse of i in base 2 (van der Corput): the first 2^k values
@@ -170,8 +176,44 @@ static int run_lattice(const win_plan *pl, win_lattice *lat, char *err, size_t e
     for (uint64_t p = 0; p < N; p++)
         if (on_lattice(pl, p))
             px[n++] = (uint32_t)p;
+    if (pl->snapshot && pl->max_windows) {
+        /* each window's warm-up starts from the lattice's caches when the
+         * lattice reached the warm-up's first pixel: sorted by position */
+        uint32_t W = pl->max_windows;
+        lat->snaps = calloc(W, sizeof *lat->snaps);
+        lat->snap_of = malloc(W * sizeof *lat->snap_of);
+        uint64_t *key = malloc(W * sizeof *key);
+        if (!lat->snaps || !lat->snap_of || !key) {
+            free(px), free(attr), free(key);
+            snprintf(err, errlen, "out of memory");
+            return 2;
+        }
+        for (uint32_t i = 0; i < W; i++) {
+            uint64_t first, st, end, lo = 0, hi = n;
+            window_range(pl, i, &first, &st, &end);
+            while (lo < hi) {   /* lattice pixels before `first` */
+                uint64_t mid = (lo + hi) / 2;
+                if (px[mid] < first)
+                    lo = mid + 1;
+                else
+                    hi = mid;
+            }
+            key[i] = lo << 32 | i;
+        }
+        for (uint32_t i = 1; i < W; i++)   /* insertion sort by (position, window) */
+            for (uint32_t j = i; j > 0 && key[j - 1] > key[j]; j--) {
+                uint64_t t = key[j];
+                key[j] = key[j - 1], key[j - 1] = t;
+            }
+        for (uint32_t k = 0; k < W; k++) {
+            lat->snaps[k].at = (uint32_t)(key[k] >> 32);
+            lat->snap_of[(uint32_t)key[k]] = k;
+        }
+        lat->nsnap = W;
+        free(key);
+    }
     fid_func f;
-    int rc = fid_functional_run_attributed(pl->job, px, (uint32_t)n, &f, attr, err, errlen) ? 2 : 0;
+    int rc = fid_functional_run_snap(pl->job, px, (uint32_t)n, &f, attr, lat->snaps, lat->nsnap, err, errlen) ? 2 : 0;
     uint64_t k = 0;
     lat->cum[0] = 0, lat->ncum[0] = 0;
     for (uint64_t p = 0; rc == 0 && p < N; p++) {
@@ -201,7 +243,12 @@ static void unit_energy(const energy_result *er, double u_mj[EU_COUNT + 1])
     u_mj[EU_COUNT] = er->static_mj[EU_DRAM];
 }
 
-/* The lattice's DRAM lines over pixels [lo, hi), scaled to all of them. */
+/* The lattice's DRAM lines over pixels [lo, hi), scaled to all of them.
+ * (Smoothing each pixel's figure over the lattice pixels within 2048 or
+ * 8192 pixels of it, so that a window of ~1K pixels has more than its ~130
+ * own, made the intervals wider, not narrower: hairball diffuse MBVH4 48
+ * windows, DRAM MB 8.9% -> 12.0-12.6%; the lines a pixel's own rays fetch
+ * say more than the neighbourhood's.) */
 static double lattice_lines(const win_lattice *lat, uint64_t lo, uint64_t hi)
 {
     uint32_t c = lat->ncum[hi] - lat->ncum[lo];
@@ -226,6 +273,15 @@ static int run_window(const win_plan *pl, uint32_t i, win_piece *r, char *err, s
     if (rc) {
         free(map);
         return rc;
+    }
+    if (pl->snapshot && pl->lat && i < pl->lat->nsnap) {
+        const fid_func_snap *sn = &pl->lat->snaps[pl->lat->snap_of[i]];
+        if (accel_top_warm_caches(sub.top, (const cache_core *const *)sn->l1, (int)sn->ntrv, sn->l2, sn->prim)) {
+            snprintf(err, errlen, "window %u: the lattice's caches do not match the machine's", i);
+            fid_subset_close(&sub);
+            free(map);
+            return 2;
+        }
     }
     accel_point zero;
     memset(&zero, 0, sizeof zero);
@@ -255,7 +311,7 @@ static int run_window(const win_plan *pl, uint32_t i, win_piece *r, char *err, s
             }
         }
         path_tracer pt;
-        rc = path_tracer_init(&pt, job, err, errlen);
+        rc = path_tracer_init(&pt, job, pl->have_order, pl->order, err, errlen);
         for (uint64_t k = 0; rc == 0 && k < r->b.primaries && k < n; k++) {
             double work[2];
             path_work(&pt, map[k], work);
@@ -297,95 +353,10 @@ static double window_fig(const win_piece *w, int k, bool warm)
     return warm ? point_fig(&w->a, k) : point_fig(&w->b, k) - point_fig(&w->a, k);
 }
 
-static double dot(const double beta[FID_AUX_COUNT], const double x[FID_AUX_COUNT])
-{
-    double v = 0;
-    for (int a = 0; a < FID_AUX_COUNT; a++)
-        v += beta[a] * x[a];
-    return v;
-}
-
-/* Coefficients beta of y ~ beta . x over the windows: least squares weighted
- * by 1 / (x_primary + x_bounce) (a window's spread grows with its work, as a
- * ratio estimator assumes), no coefficient negative (non-negative least
- * squares: of the fits on each subset of the figures whose coefficients are
- * all >= 0, the one with the least residual sum). Falls back to one ratio
- * over the total work when no subset fits. Returns how many coefficients
- * are not 0. */
-static int fit(const double (*x)[FID_AUX_COUNT], const double *y, uint32_t M, double beta[FID_AUX_COUNT])
-{
-    double A[FID_AUX_COUNT][FID_AUX_COUNT] = {{0}}, v[FID_AUX_COUNT] = {0}, sy = 0, sx = 0;
-    for (uint32_t i = 0; i < M; i++) {
-        double w = x[i][FID_AUX_PRIMARY] + x[i][FID_AUX_BOUNCE], wt = w > 0 ? 1.0 / w : 0;
-        for (int a = 0; a < FID_AUX_COUNT; a++) {
-            v[a] += wt * x[i][a] * y[i];
-            for (int b = 0; b < FID_AUX_COUNT; b++)
-                A[a][b] += wt * x[i][a] * x[i][b];
-        }
-        sy += y[i], sx += w;
-    }
-    double best = INFINITY;
-    int used = 0;
-    for (unsigned set = 1; set < 1u << FID_AUX_COUNT; set++) {
-        /* the normal equations on the subset, Gauss-Jordan with partial pivoting */
-        int idx[FID_AUX_COUNT], m = 0;
-        for (int a = 0; a < FID_AUX_COUNT; a++)
-            if (set >> a & 1)
-                idx[m++] = a;
-        double S[FID_AUX_COUNT][FID_AUX_COUNT + 1];
-        for (int i = 0; i < m; i++) {
-            for (int j = 0; j < m; j++)
-                S[i][j] = A[idx[i]][idx[j]];
-            S[i][m] = v[idx[i]];
-        }
-        bool ok = true;
-        for (int c = 0; c < m && ok; c++) {
-            int piv = c;
-            for (int i = c + 1; i < m; i++)
-                if (fabs(S[i][c]) > fabs(S[piv][c]))
-                    piv = i;
-            if (!(fabs(S[piv][c]) > 1e-12 * A[idx[c]][idx[c]]) || A[idx[c]][idx[c]] <= 0) {
-                ok = false;   /* singular: a figure absent (primary rays have no bounce work) or collinear */
-                break;
-            }
-            for (int j = 0; j <= m; j++) {
-                double t = S[c][j];
-                S[c][j] = S[piv][j], S[piv][j] = t;
-            }
-            for (int i = 0; i < m; i++)
-                if (i != c) {
-                    double f = S[i][c] / S[c][c];
-                    for (int j = c; j <= m; j++)
-                        S[i][j] -= f * S[c][j];
-                }
-        }
-        double b[FID_AUX_COUNT] = {0};
-        for (int i = 0; ok && i < m; i++)
-            if ((b[idx[i]] = S[i][m] / S[i][i]) < 0)
-                ok = false;
-        if (!ok)
-            continue;
-        double sse = 0;
-        for (uint32_t i = 0; i < M; i++) {
-            double w = x[i][FID_AUX_PRIMARY] + x[i][FID_AUX_BOUNCE], e = y[i] - dot(b, x[i]);
-            sse += (w > 0 ? 1.0 / w : 0) * e * e;
-        }
-        if (sse < best * (1.0 - 1e-12)) {
-            best = sse, used = m;
-            memcpy(beta, b, sizeof b);
-        }
-    }
-    if (used == 0) {
-        for (int a = 0; a < FID_AUX_COUNT; a++)
-            beta[a] = a == FID_AUX_DRAM_LINES ? 0 : sx > 0 ? sy / sx : 0;
-        used = 1;
-    }
-    return used;
-}
-
 /* Pieces run so far (the plan is fixed by the first run; more windows can be added). */
 struct fid_win_runs {
     win_plan pl;
+    uint32_t *order;              /* the frame's pixel order, for every window (pl.order) */
     win_piece *win;               /* windows 0..count-1 */
     uint32_t count, cap;
     win_lattice lat;
@@ -395,10 +366,17 @@ struct fid_win_runs {
 void fid_windowed_free(fid_windowed *w)
 {
     if (w->runs) {
+        free(w->runs->order);
         free(w->runs->win);
         free(w->runs->lat.cum);
         free(w->runs->lat.ncum);
+        for (uint32_t k = 0; k < w->runs->lat.nsnap; k++)
+            fid_functional_snap_free(&w->runs->lat.snaps[k]);
+        free(w->runs->lat.snaps);
+        free(w->runs->lat.snap_of);
     }
+    free(w->resid);
+    w->resid = NULL;
     free(w->runs);
     w->runs = NULL;
 }
@@ -412,12 +390,13 @@ static int plan(const fid_job *job, double rate, uint32_t windows, fid_windowed 
     const fid_params *fp = fid_params_get();
     memset(pl, 0, sizeof *pl);
     pl->job = job;
-    pl->warm = (uint32_t)fp->win_warm_pixels;
+    pl->snapshot = fp->win_snapshot != 0;
+    pl->warm = (uint32_t)(pl->snapshot ? fp->win_snap_warm_pixels : fp->win_warm_pixels);
     pl->lattice_period = (uint32_t)fp->win_lattice;
     pl->npix = (uint64_t)job->width * job->height;
     if (rate <= 0)
         rate = fp->win_rate;
-    uint32_t M = windows ? windows : (uint32_t)fp->win_count;
+    uint32_t M = windows ? windows : (uint32_t)(pl->snapshot ? fp->win_snap_count : fp->win_count);
     double budget = rate * (double)pl->npix;
     while (M > (uint32_t)fp->win_min_count && budget / M - pl->warm < fp->win_min_pixels)
         M--;
@@ -439,6 +418,7 @@ static int plan(const fid_job *job, double rate, uint32_t windows, fid_windowed 
         return 2;
     }
     out->windows = M, out->warm_pixels = pl->warm, out->window_pixels = pl->len;
+    pl->max_windows = M;
     return 0;
 }
 
@@ -462,6 +442,8 @@ bool fid_windowed_fits(const fid_job *job, double rate, uint32_t windows, char *
 static int run_more(const fid_job *job, struct fid_win_runs *r, uint32_t upto, bool lattice, fid_windowed *out,
                     char *err, size_t errlen)
 {
+    if (r->pl.snapshot && upto > r->pl.max_windows)
+        upto = r->pl.max_windows;   /* a window without the lattice's caches would start cold */
     if (upto > r->cap) {
         win_piece *nw = realloc(r->win, (size_t)upto * sizeof *nw);
         if (!nw) {
@@ -472,10 +454,11 @@ static int run_more(const fid_job *job, struct fid_win_runs *r, uint32_t upto, b
     }
     win_plan pl = r->pl;
     pl.first = r->count, pl.count = upto > r->count ? upto - r->count : 0;
+    pl.lat = &r->lat;
     int rc = 0;
     /* the lattice runs here, in this process: the windows' auxiliary
      * figures need its per-pixel DRAM lines */
-    if (lattice && !r->has_lat) {
+    if ((lattice || pl.snapshot) && !r->has_lat) {   /* functional warming needs the lattice first */
         rc = run_lattice(&pl, &r->lat, err, errlen);
         r->has_lat = rc == 0;
     }
@@ -507,7 +490,21 @@ static int run_more(const fid_job *job, struct fid_win_runs *r, uint32_t upto, b
     return rc;
 }
 
-static int start_plan(const fid_job *job, double rate, uint32_t windows, fid_windowed *out, char *err, size_t errlen)
+/* Bytes of one snapshot of the machine's caches (tags and LRU stamps). */
+static double snap_bytes(const rtcfg *cfg)
+{
+    double lines = (double)rtcfg_int(cfg, "trv.count") * (double)rtcfg_int(cfg, "node_l1.size") /
+                       (double)rtcfg_int(cfg, "node_l1.line") +
+                   (double)rtcfg_int(cfg, "node_l2.size") / (double)rtcfg_int(cfg, "node_l2.line") +
+                   (double)rtcfg_int(cfg, "prim.size") / (double)rtcfg_int(cfg, "prim.line");
+    return 16.0 * lines + 4096.0;   /* a tag and a stamp per line, and the core's own tables */
+}
+
+/* growth: --accuracy may add windows (up to 2.4x the plan, auto_windowed,
+ * within win_max_rate of the frame): their snapshots are taken with the
+ * lattice's, as far as win_snap_max_bytes allows. */
+static int start_plan(const fid_job *job, double rate, uint32_t windows, bool growth, fid_windowed *out, char *err,
+                      size_t errlen)
 {
     memset(out, 0, sizeof *out);
     struct fid_win_runs *r = calloc(1, sizeof *r);
@@ -516,24 +513,74 @@ static int start_plan(const fid_job *job, double rate, uint32_t windows, fid_win
         return 2;
     }
     out->runs = r;
-    return plan(job, rate, windows, out, &r->pl, err, errlen);
+    int rc = plan(job, rate, windows, out, &r->pl, err, errlen);
+    if (rc == 0 && r->pl.snapshot) {
+        const fid_params *fp = fid_params_get();
+        win_plan *pl = &r->pl;
+        double per = snap_bytes(job->cfg), fit = fp->win_snap_max_bytes / per;
+        double most = fmin(fp->win_max_rate * (double)pl->npix / (double)(pl->len + pl->warm), 2.4 * pl->max_windows + 2);
+        if (fit < pl->max_windows) {
+            snprintf(err, errlen,
+                     "windowed: the caches' contents for %u windows would take %.0f MB (at most %.0f MB, "
+                     "win_snap_max_bytes): use fewer --windows, smaller caches or --fidelity full",
+                     pl->max_windows, per * pl->max_windows / 1e6, fp->win_snap_max_bytes / 1e6);
+            rc = 2;
+        } else if (growth)
+            pl->max_windows = (uint32_t)fmax(pl->max_windows, fmin(most, fit));
+    }
+    if (rc == 0 && !rtsim_pixel_order(job->cfg, job->width, job->height, &r->order, err, errlen))
+        rc = 2;
+    r->pl.have_order = rc == 0, r->pl.order = r->order;
+    return rc;
 }
 
 int fid_windowed_run(const fid_job *job, double rate, uint32_t windows, fid_windowed *out, char *err, size_t errlen)
 {
-    int rc = start_plan(job, rate, windows, out, err, errlen);
+    int rc = start_plan(job, rate, windows, false, out, err, errlen);
     return rc ? rc : run_more(job, out->runs, out->windows, true, out, err, errlen);
 }
 
 int fid_windowed_probe(const fid_job *job, double rate, uint32_t windows, uint32_t count, fid_windowed *out,
                        char *err, size_t errlen)
 {
-    int rc = start_plan(job, rate, windows, out, err, errlen);
+    int rc = start_plan(job, rate, windows, true, out, err, errlen);
     if (rc)
         return rc;
     uint32_t planned = out->windows;
-    rc = run_more(job, out->runs, count < planned ? count : planned, false, out, err, errlen);
+    rc = run_more(job, out->runs, count < planned ? count : planned, true, out, err, errlen);
     out->planned = planned;
+    return rc;
+}
+
+int fid_windowed_cold_probe(const fid_job *job, double *cold_share, double *turnover, char *err, size_t errlen)
+{
+    *turnover = 0;
+    const fid_params *fp = fid_params_get();
+    win_plan pl;
+    memset(&pl, 0, sizeof pl);
+    pl.job = job;
+    pl.npix = (uint64_t)job->width * job->height;
+    pl.warm = (uint32_t)fp->win_warm_pixels;
+    pl.len = (uint32_t)fp->win_probe_pixels;
+    pl.lattice_period = (uint32_t)fp->win_lattice;
+    *cold_share = 0;
+    if (pl.npix < (uint64_t)pl.warm + pl.len) {
+        snprintf(err, errlen, "windowed: the frame has %llu pixels, too few for the probe", (unsigned long long)pl.npix);
+        return 2;
+    }
+    /* window 1 of the sequence: the middle of the frame's order, away
+     * from its first pixels (the probe's warm-up must be whole) */
+    win_piece r;
+    memset(&r, 0, sizeof r);
+    int rc = run_window(&pl, 1, &r, err, errlen);
+    double fills = (double)(r.b.backed_fills - r.a.backed_fills);
+    *cold_share = fills > 0 ? (double)(r.b.backed_cold_fills - r.a.backed_cold_fills) / fills : 0;
+    /* the frame's fills at the window's rate, in cache capacities (node L2
+     * + primitive cache lines) */
+    double cap = (double)rtcfg_int(job->cfg, "node_l2.size") / (double)rtcfg_int(job->cfg, "node_l2.line") +
+                 (double)rtcfg_int(job->cfg, "prim.size") / (double)rtcfg_int(job->cfg, "prim.line");
+    double measured = (double)(r.b.primaries - r.a.primaries);
+    *turnover = cap > 0 && measured > 0 ? fills / measured * (double)pl.npix / cap : 0;
     return rc;
 }
 
@@ -613,6 +660,10 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
         }
     uint32_t npairs = M / 2 + M % 2;
     double t = fid_t95((int)npairs), f = fmin(1.0, prim / N);
+    double *res = malloc((size_t)(M ? M : 1) * sizeof *res);
+    free(out->resid);
+    out->resid = malloc((size_t)(M ? M : 1) * FID_WIN_HEADLINE * sizeof *out->resid);
+    out->t95 = t, out->npairs = npairs;
     /* the drain: the last pixel's path ends one path latency after its admission */
     double drain = out->mean_latency * (prim > 0 ? rays / prim : 1.0);
     for (int k = 0; k < FID_WIN_FIGS; k++) {
@@ -624,26 +675,24 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
         double beta[FID_AUX_COUNT], cs = 0, cs2 = 0, cn = 0, fitted = 0, pvar = 0;
         for (uint32_t i = 0; i < M; i++)
             y[i] = window_fig(&pc[i], k, false);
-        int used = fit((const double(*)[FID_AUX_COUNT])xw, y, M, beta);
-        double steady = dot(beta, X);
+        int used = fid_fit_nonneg((const double(*)[FID_AUX_COUNT])xw, y, M, beta);
+        double steady = fid_dot(beta, X);
         for (uint32_t i = 0; i < M; i++)
-            fitted += dot(beta, xw[i]);
-        for (uint32_t q = 0; q < npairs && M > 1; q++) {
-            uint32_t ia = order[2 * q < M - 1 ? 2 * q : M - 2], ib = order[2 * q < M - 1 ? 2 * q + 1 : M - 1];
-            double ea = y[ia] - dot(beta, xw[ia]), eb = y[ib] - dot(beta, xw[ib]);
-            pvar += (ea - eb) * (ea - eb);
-        }
+            fitted += fid_dot(beta, xw[i]);
+        for (uint32_t q = 0; q < M && res; q++)
+            res[q] = y[order[q]] - fid_dot(beta, xw[order[q]]);   /* in image order */
+        pvar = res ? fid_pairs_sumsq(res, M, NULL) : 0;
         /* the windows' residual sum scaled to the frame as the fit scales
          * them; residuals of a fit are smaller than the errors by M - used
          * of M degrees of freedom */
-        double scale = fitted > 0 ? steady / fitted : 0;
-        pvar *= scale * scale * (M > (uint32_t)used ? (double)M / (M - used) : 1.0);
+        double scale = fitted > 0 ? steady / fitted : 0, dof = M > (uint32_t)used ? (double)M / (M - used) : 1.0;
+        pvar *= scale * scale * dof;
         /* the warm-up's excess over its steady share: the cost of a cold start */
         for (uint32_t i = 0; i < M; i++) {
             const win_piece *w = &pc[i];
             if (!w->a.primaries)
                 continue;
-            double c = window_fig(w, k, true) - dot(beta, xs[i]);
+            double c = window_fig(w, k, true) - fid_dot(beta, xs[i]);
             cs += c, cs2 += c * c, cn += 1;
         }
         double cbar = cn > 0 ? cs / cn : 0;
@@ -655,7 +704,12 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
             e += s_static / cycles_win * drain;   /* the drain's static energy */
         else if (k == FID_WIN_DRAM_STATIC && cycles_win > 0)
             e += s_dram / cycles_win * drain;
-        out->ci[k] = e > 0 && M > 1 ? t * sqrt((1.0 - f) * pvar) / e : 1.0;
+        out->ci[k] = e > 0 && M > 1 && res ? t * sqrt((1.0 - f) * pvar) / e : 1.0;
+        /* each window's residual as it enters the interval, relative to the
+         * frame's figure: the paired estimates of a sweep pair these
+         * across machines (ci = t . sqrt(fid_pairs_sumsq(resid))) */
+        for (uint32_t q = 0; k < FID_WIN_HEADLINE && q < M && res && out->resid; q++)
+            out->resid[(size_t)k * M + q] = e > 0 ? res[q] * scale * sqrt(dof * (1.0 - f)) / e : 0;
         out->start_err[k] = e > 0 && cn > 0 ? fid_t95((int)cn - 1) * csd / sqrt(cn) / e : 0;
         /* the lattice's standard error of beta . x per pixel */
         double m = 0, v = 0;
@@ -679,5 +733,5 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
     for (int u = 0; u < EU_COUNT && out->has_units; u++)
         out->leak_mw[u] = pc[0].leak_mw[u], out->area_mm2[u] = pc[0].area_mm2[u];
     out->static_mj = cycles_win > 0 ? s_static / cycles_win * out->cycles : 0;
-    free(xw), free(xs), free(y), free(order), free(pos);
+    free(xw), free(xs), free(y), free(order), free(pos), free(res);
 }

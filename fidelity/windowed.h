@@ -80,6 +80,12 @@ typedef struct fid_windowed {
     double lattice_err[FID_WIN_FIGS]; /* the frame's auxiliary figure from the lattice */
     double rays_err;              /* the frame's ray count from the lattice (0 for primary rays) */
     double cold_share;            /* fills into never-used ways / fills, in the windows */
+    /* resid[k * windows + q]: window q's (image order) residual of headline
+     * figure k as it enters ci[k], relative to the frame's figure:
+     * ci[k] = t95 . sqrt(fid_pairs_sumsq(resid + k * windows)) (estimator.h);
+     * a sweep's paired estimates pair them across machines (owned) */
+    double *resid, t95;
+    uint32_t npairs;
     struct fid_win_runs *runs;    /* the windows run so far (owned) */
 } fid_windowed;
 
@@ -88,11 +94,20 @@ typedef struct fid_windowed {
  * default win_rate); windows: 0 = the default. fid_windowed_free() frees
  * what out->runs holds (after any return). */
 int fid_windowed_run(const fid_job *job, double rate, uint32_t windows, fid_windowed *out, char *err, size_t errlen);
-/* Plans the same way but runs only the first `count` windows and no
- * lattice: out->cold_share says whether the warm-ups suffice before the
- * rest is spent; out->planned: the plan's windows. No figures yet. */
+/* Plans the same way but runs only the first `count` windows (and the
+ * lattice): a pilot whose estimate says whether the rest is worth its
+ * cost; out->planned: the plan's windows. */
 int fid_windowed_probe(const fid_job *job, double rate, uint32_t windows, uint32_t count, fid_windowed *out,
                        char *err, size_t errlen);
+/* --accuracy's first look, before the lattice: one window of
+ * win_probe_pixels after a win_warm_pixels warm-up from empty caches, in
+ * this process; *cold_share: its fills into never-used ways / its fills;
+ * *turnover: the frame's node L2 and primitive cache fills at the
+ * window's rate over those caches' lines. Where most fills are cold, or
+ * the frame refills its caches only a few times (primary rays: the caches
+ * keep their lines for most of a frame), no window stands for the frame.
+ * 0, 1 or 2 as fid_windowed_run. */
+int fid_windowed_cold_probe(const fid_job *job, double *cold_share, double *turnover, char *err, size_t errlen);
 /* Runs windows up to `windows` in all (beyond the plan too: the positions
  * are a sequence, the earlier windows are kept) and the lattice if not yet
  * run, and estimates. */
@@ -101,8 +116,5 @@ void fid_windowed_free(fid_windowed *w);
 /* Whether the frame holds the plan without flagging it as too small; why
  * (when not): what is too small. */
 bool fid_windowed_fits(const fid_job *job, double rate, uint32_t windows, char *why, size_t whylen);
-
-/* Student t, two-sided 95%, for dof degrees of freedom (>= 1). */
-double fid_t95(int dof);
 
 #endif

@@ -65,6 +65,10 @@ struct accel_top {
     double stat_dram_pj_per_byte;
     accel_series *series;      /* interval statistics, NULL: none (model/series.h) */
     uint64_t *series_busy;     /* the TRVs' busy cycles at a sample */
+    /* the first statistic the energy adapter asked for and the registry
+     * did not have ("" none): accel_top_create refuses the machine rather
+     * than price a renamed statistic as 0 */
+    char missing_stat[160];
 };
 
 /* The statistic named by the format, or 0 when no statistic has that name
@@ -78,6 +82,22 @@ static double stat_named(const ks_stats *st, const char *fmt, ...)
     vsnprintf(name, sizeof name, fmt, ap);
     va_end(ap);
     return ks_stats_value_or(st, name, 0.0);
+}
+
+/* stat_named for the energy adapter: the statistic must exist; the first
+ * that does not is kept in t->missing_stat (checked at creation). */
+static double stat_need(accel_top *t, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
+static double stat_need(accel_top *t, const char *fmt, ...)
+{
+    char name[160];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(name, sizeof name, fmt, ap);
+    va_end(ap);
+    double v = 0;
+    if (ks_stats_value(t->stats, name, &v) && !t->missing_stat[0])
+        snprintf(t->missing_stat, sizeof t->missing_stat, "%s", name);
+    return v;
 }
 
 /* Instances of a row of accel_ray_fifos: one per TRV, or one. */
@@ -279,10 +299,10 @@ static energy_model *build_energy_model(accel_top *t, const rtcfg *cfg, char *er
 
 /* Adds the reads and writes of kernel FIFO `name` (its fifo.<name>.*
  * statistics) to the energy model's FIFO j. */
-static void add_fifo_activity(energy_activity *a, int j, const ks_stats *st, const char *name)
+static void add_fifo_activity(energy_activity *a, int j, accel_top *t, const char *name)
 {
-    a->fifo_reads[j] += stat_named(st, "fifo.%s.reads", name);
-    a->fifo_writes[j] += stat_named(st, "fifo.%s.writes", name);
+    a->fifo_reads[j] += stat_need(t, "fifo.%s.reads", name);
+    a->fifo_writes[j] += stat_need(t, "fifo.%s.writes", name);
 }
 
 /* The energy activity of the run so far, from the statistics registry:
@@ -292,19 +312,18 @@ static void add_fifo_activity(energy_activity *a, int j, const ks_stats *st, con
 static void gather_activity(accel_top *t, double seconds, double dram_bytes, energy_activity *out)
 {
     energy_model *em = t->energy;
-    const ks_stats *st = t->stats;
     energy_activity a = {0};
     char nm[64];
     a.seconds = seconds;
     double comparators = sort_net_get(t->p.width)->ncmps;
     for (uint32_t i = 0; i < t->p.trv_count; i++) {
         /* slab tests of all lanes, and one FLOP per comparator of each sort */
-        a.trv_flops += stat_named(st, "%s.flops", t->names[i]);
-        a.trv_flops += comparators * stat_named(st, "%s.sort_passes", t->names[i]);
-        a.stack_reads += stat_named(st, "%s.stack_pops", t->names[i]);
-        a.stack_writes += stat_named(st, "%s.stack_pushes", t->names[i]);
-        a.cache_reads[0] += stat_named(st, "node_l1_%u.accesses", i);
-        a.cache_writes[0] += stat_named(st, "node_l1_%u.fills", i);
+        a.trv_flops += stat_need(t, "%s.flops", t->names[i]);
+        a.trv_flops += comparators * stat_need(t, "%s.sort_passes", t->names[i]);
+        a.stack_reads += stat_need(t, "%s.stack_pops", t->names[i]);
+        a.stack_writes += stat_need(t, "%s.stack_pushes", t->names[i]);
+        a.cache_reads[0] += stat_need(t, "node_l1_%u.accesses", i);
+        a.cache_writes[0] += stat_need(t, "node_l1_%u.fills", i);
     }
     /* the ray side's FIFOs; a ring is written once per ray that goes round
      * it and read once when the ray comes back (accel_config.h) */
@@ -313,30 +332,30 @@ static void gather_activity(accel_top *t, double seconds, double dram_bytes, ene
         int j = energy_fifo_index(&em->m, d->key);
         for (uint32_t i = 0; j >= 0 && i < ray_fifo_instances(t, d); i++) {
             if (!d->ring) {
-                add_fifo_activity(&a, j, st, accel_fifo_expand(d->name, i, nm, sizeof nm));
+                add_fifo_activity(&a, j, t, accel_fifo_expand(d->name, i, nm, sizeof nm));
                 continue;
             }
             double writes = 0;
             for (int k = 0; k < 2 && d->ring_writes[k]; k++)
-                writes += stat_named(st, "%s", accel_fifo_expand(d->ring_writes[k], i, nm, sizeof nm));
+                writes += stat_need(t, "%s", accel_fifo_expand(d->ring_writes[k], i, nm, sizeof nm));
             a.fifo_reads[j] += writes;
             a.fifo_writes[j] += writes;
         }
     }
-    a.ist_flops = stat_named(st, "ist.flops");
-    a.cache_reads[1] = stat_named(st, "node_l2.accesses");
-    a.cache_writes[1] = stat_named(st, "node_l2.fills");
-    a.cache_reads[2] = stat_named(st, "prim.accesses");
-    a.cache_writes[2] = stat_named(st, "prim.fills");
+    a.ist_flops = stat_need(t, "ist.flops");
+    a.cache_reads[1] = stat_need(t, "node_l2.accesses");
+    a.cache_writes[1] = stat_need(t, "node_l2.fills");
+    a.cache_reads[2] = stat_need(t, "prim.accesses");
+    a.cache_writes[2] = stat_need(t, "prim.fills");
     for (int i = 0; i < memsys_fifo_count(t->mem); i++) {
         const char *key = NULL;
         ks_fifo *f = memsys_fifo_at(t->mem, i, &key, NULL);
         int j = energy_fifo_index(&em->m, key);
         if (j >= 0)
-            add_fifo_activity(&a, j, st, ks_fifo_name(f));
+            add_fifo_activity(&a, j, t, ks_fifo_name(f));
     }
     if (em->m.dram_modeled) {
-        double total = stat_named(st, "dram.energy_uJ"), bg = stat_named(st, "dram.background_energy_uJ");
+        double total = stat_need(t, "dram.energy_uJ"), bg = stat_need(t, "dram.background_energy_uJ");
         a.dram_dynamic_nj = (total - bg) * 1e3;
         a.dram_static_nj = bg * 1e3;
     }
@@ -559,6 +578,17 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     if (rtcfg_bool(cfg, "energy.enabled") &&
         (!(t->energy = build_energy_model(t, cfg, err, errlen)) || energy_register_stats(t->energy, t->stats, err, errlen)))
         goto fail;
+    if (t->energy) {
+        /* every count the energy model prices must be a registered
+         * statistic: a renamed one would read as 0 energy */
+        energy_activity a;
+        gather_activity(t, 0, 0, &a);
+        if (t->missing_stat[0]) {
+            snprintf(err, errlen, "energy model: the statistic %s it prices is not registered by any unit",
+                     t->missing_stat);
+            goto fail;
+        }
+    }
     if (opts->series) {
         if (!(t->series_busy = calloc(ntrv, sizeof *t->series_busy))) {
             snprintf(err, errlen, "out of memory for the series");
@@ -882,6 +912,21 @@ int accel_top_run_until(accel_top *t, uint64_t primaries, accel_point *p, char *
     }
     if (t->energy)
         gather_activity(t, (double)now_cycle / (t->p.clock_mhz * 1e6), p->dram_bytes, &p->act);
+    return 0;
+}
+
+int accel_top_warm_caches(accel_top *t, const cache_core *const *l1, int nl1, const cache_core *l2,
+                          const cache_core *prim)
+{
+    if (!t->mem || nl1 != (int)t->p.trv_count)
+        return -1;
+    for (int i = 0; i < nl1; i++)
+        if (l1[i] && cache_core_copy_contents(memsys_node_l1(t->mem, i), l1[i]))
+            return -1;
+    if (l2 && cache_core_copy_contents(memsys_node_l2(t->mem), l2))
+        return -1;
+    if (prim && cache_core_copy_contents(memsys_prim(t->mem), prim))
+        return -1;
     return 0;
 }
 

@@ -93,6 +93,14 @@ int accel_top_run_until(accel_top *t, uint64_t primaries, accel_point *p, char *
  * runs that are not reported themselves; valid until the next call. */
 const energy_result *accel_top_interval_energy(accel_top *t, const accel_point *a, const accel_point *b);
 const accel_params *accel_top_params(const accel_top *t);
+/* Functional warming (fidelity/windowed.c): before the run starts, the
+ * machine's caches take the contents (tags and LRU order) of the given
+ * cores of the same geometry: l1[0..nl1) the TRVs' node L1s, then the node
+ * L2 and the primitive cache (NULL: left empty). Statistics are not
+ * touched. 0, or -1 when a geometry differs or nl1 is not the TRV count. */
+struct cache_core;
+int accel_top_warm_caches(accel_top *t, const struct cache_core *const *l1, int nl1, const struct cache_core *l2,
+                          const struct cache_core *prim);
 /* Samples no more into opts->series (which may then be destroyed). */
 void accel_top_detach_series(accel_top *t);
 uint64_t accel_top_guard_cycle(const accel_top *t); /* where the livelock guard engaged, 0: never */

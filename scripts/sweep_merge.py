@@ -153,12 +153,24 @@ def main():
     # A failed run's figures (MRPS 0...) are no measurement: not charted.
     draw_charts(d, header, grid, [(p, j) for p, j in results if not j.get("run_failed")], present)
     write_report(d, header, grid, results, present, len(points))
+    write_paired_if_windowed(d, results)
     if missing:
         print(f"sweep: {len(missing)} of {len(points)} points have no result yet: " + " ".join(missing[:5])
               + (" ..." if len(missing) > 5 else "") + " (run the sweep again to do them)",
               file=sys.stderr)
         return 1
     return 0
+
+
+def write_paired_if_windowed(d, results):
+    """DIR/paired.csv (scripts/paired.py: each point's change against its
+    group's baseline with a paired interval) when some point ran windowed."""
+    if not any(j.get("fidelity") == "windowed" for _, j in results):
+        return
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import paired
+    path, rows = paired.write_paired(d)
+    print(f"sweep: paired changes of {len(rows)} points against their baselines in {path}")
 
 
 def write_report(d, header, grid, results, present, npoints):

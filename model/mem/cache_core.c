@@ -696,3 +696,15 @@ void cache_core_describe(const cache_core *c, int64_t now, char *buf, size_t len
         snprintf(buf + n, len - (size_t)n, ", oldest miss 0x%llx waiting %lld cycles",
                  (unsigned long long)addr_of(c, c->m[oldest].line), (long long)(now - c->m[oldest].since));
 }
+
+int cache_core_copy_contents(cache_core *c, const cache_core *src)
+{
+    if (c->nsets != src->nsets || c->p.ways != src->p.ways || c->p.line_bytes != src->p.line_bytes ||
+        c->p.banks != src->p.banks || c->index != src->index)
+        return -1;
+    size_t nways = (size_t)c->nsets * c->p.ways;
+    memcpy(c->tag, src->tag, nways * sizeof *c->tag);
+    memcpy(c->stamp, src->stamp, nways * sizeof *c->stamp);
+    c->clock = src->clock;
+    return 0;
+}

@@ -139,6 +139,11 @@ typedef void (*cache_core_miss_hook)(void *user);
 void cache_core_set_miss_hook(cache_core *c, cache_core_miss_hook fn, void *user);
 
 /* Introspection (tests, deadlock reports, statistics). */
+/* Functional warming (fidelity/windowed.c): src's contents (tags and LRU
+ * order) copied into c, a core of the same geometry whose MSHRs are idle;
+ * c's statistics, MSHRs and port and bank timing stay its own. 0, or -1
+ * when the geometries differ. */
+int cache_core_copy_contents(cache_core *c, const cache_core *src);
 bool cache_core_contains(const cache_core *c, uint64_t addr);        /* no side effects */
 /* Every line of [addr, addr+bytes) present (ctx = the cache; no side
  * effects: no LRU update, no statistics). */

@@ -219,17 +219,27 @@ if [ "$(field "$tmp/low.json" unreliable)" = 1 ] && echo "$out" | grep -q "^unre
 else fail fidelity_sampled_low_rate_flagged "$(echo "$out" | grep -E '^(fidelity|unrel)' | tr '\n' ' ')"; fi
 
 # --- windowed (fidelity/windowed.h) -----------------------------------------
-# The frame must hold windows after 4096-pixel warm-ups: 640x360 at 30%.
+# The frame must hold 48 windows after 1024-pixel warm-ups: 640x360 at 30%.
 win="interior --res 640x360 --rays diffuse --bounces 1 --fidelity windowed --sample-rate 0.3"
 # shellcheck disable=SC2086
 out=$("$bin" $win --jobs 1 --json "$tmp/win1.json" 2>&1); rc=$?
+echo "$out" >"$tmp/win1.txt"
 if [ $rc = 0 ] && echo "$out" | grep -q "^fidelity    windowed; error estimate MRPS" &&
-   echo "$out" | grep -q "^method      windowed: the full model on 15 windows of 512 pixels, each after 4096 warm-up pixels" &&
-   python3 - "$tmp/win1.json" <<'PY'
+   echo "$out" | grep -q "^method      windowed: the full model on 48 windows of 416 pixels, each after 1024 warm-up pixels" &&
+   python3 - "$tmp/win1.json" "$tmp/win1.txt" <<'PY'
 import json, sys
 d = json.load(open(sys.argv[1]))
 assert d["fidelity"] == "windowed" and d["fidelity_level"] == 4
-assert d["window.count"] == 15 and d["window.pixels"] == 512 and d["window.warm_pixels"] == 4096
+assert d["window.count"] == 48 and d["window.pixels"] == 416 and d["window.warm_pixels"] == 1024
+# the paired estimate's inputs: the windows' residuals give back the
+# interval the method line prints (fidelity/estimator.h fid_pairs_sumsq)
+import math, re
+ci = [float(v) for v in re.search(r"MRPS ([0-9.]+)%, DRAM ([0-9.]+)%, mJ ([0-9.]+)%; cold", open(sys.argv[2]).read()).groups()]
+assert d["window.paired_windows"] == 48
+for k, fig in enumerate(("mrps", "dram_mb", "energy_mj")):
+    r = [d["window.resid.%s.%d" % (fig, q)] for q in range(48)]
+    s = sum((r[2 * q] - r[2 * q + 1]) ** 2 for q in range(24))
+    assert abs(100 * d["window.t95"] * math.sqrt(s) - ci[k]) < 0.051, (fig, ci[k])
 assert d["_units"]["window.cold_fill_share"] == "ratio" and d["_units"]["window.model_pixels"] == "pixels"
 assert 0.25 < d["window.model_pixels"] / (640 * 360) < 0.35, d["window.model_pixels"]
 assert d["sched.primaries"] == 640 * 360 and d["rays"] > d["sched.primaries"]
@@ -238,14 +248,15 @@ for k in ("cycles", "mrps", "dram_bytes", "energy_mj", "error_estimate.mrps"):
 PY
 then pass fidelity_windowed_fields; else fail fidelity_windowed_fields "exit $rc: $(echo "$out" | grep -E '^(fidelity|method|rtsim)' | tr '\n' ' ')"; fi
 # --progress off a terminal: a line as the pieces end, the last one when all
-# did (the 15 windows; the lattice runs before them, in rtsim's own process)
+# did (the 48 windows; the lattice runs before them, in rtsim's own process)
 # shellcheck disable=SC2086
 "$bin" $win --jobs 2 --progress >/dev/null 2>"$tmp/winprog.err"
-if grep -q "^rtsim: progress: 15 of 15 pieces done (windows, groups, passes)" "$tmp/winprog.err"; then
+if grep -q "^rtsim: progress: 48 of 48 pieces done (windows, groups, passes)" "$tmp/winprog.err"; then
   pass fidelity_windowed_progress_lines
 else fail fidelity_windowed_progress_lines "$(tr '\n' ' ' <"$tmp/winprog.err")"; fi
-# the warm-ups too short: one bounce leaves the 128 KB caches' sets partly
-# empty after 4096 pixels (15% of the windows' fills into never-used ways)
+# the warm-ups too short: with one bounce the lattice's caches (loaded into
+# each window) and a 1024-pixel warm-up leave the 128 KB caches' sets partly
+# empty (8% of the windows' fills into never-used ways)
 if [ "$(field "$tmp/win1.json" unreliable)" = 1 ] &&
    field "$tmp/win1.json" unreliable_reason | grep -q "^windowed: the warm-ups are too short for this frame"; then
   pass fidelity_windowed_short_warmup_flagged
@@ -261,12 +272,16 @@ if same_results "$tmp/win2.json" "$tmp/win3.json"; then pass fidelity_windowed_d
 else fail fidelity_windowed_deterministic "two runs differ"; fi
 # a frame too small for windows: refused with what it needs; one where they
 # would overlap: run and flagged
-expect fidelity_windowed_frame_too_small 2 "windowed: the frame has 2304 pixels, too few for windows after 4096 warm-up pixels each" -- "$bin" interior --res 64x36 --fidelity windowed
+expect fidelity_windowed_frame_too_small 2 "windowed: the frame has 576 pixels, too few for windows after 1024 warm-up pixels each" -- "$bin" interior --res 32x18 --fidelity windowed
 out=$("$bin" interior --res 320x180 --fidelity windowed --json "$tmp/winsmall.json" 2>&1)
 if [ "$(field "$tmp/winsmall.json" unreliable)" = 1 ] && echo "$out" | grep -q "^unreliable  windowed: the frame is too small for the windows"; then
   pass fidelity_windowed_overlap_flagged
 else fail fidelity_windowed_overlap_flagged "$(echo "$out" | grep -E '^(fidelity|unrel)' | tr '\n' ' ')"; fi
 expect fidelity_bad_windows 2 "--windows 1: allowed range 2..4096" -- "$bin" --fidelity windowed --windows 1
+# a 1 GB node L2: the lattice's cache contents for every window would not
+# fit in win_snap_max_bytes: refused at once, with what to change
+expect fidelity_windowed_snapshots_too_big 2 "windowed: the caches' contents for 22 windows would take" -- \
+  "$bin" interior --res 640x360 --rays diffuse --fidelity windowed --set node_l2.size=1073741824 --set energy.enabled=false
 # At a size it is made for (interior 1280x720, diffuse, 4 bounces): every
 # figure within its estimate against the full model, not flagged, and
 # --accuracy 10% picks it. Release build only: the full run takes ~18 s.
@@ -299,7 +314,7 @@ PY
   then pass fidelity_windowed_unit_power_within_estimate
   else fail fidelity_windowed_unit_power_within_estimate "outside, or fields missing"; fi
   out=$("$bin" interior --rays diffuse --accuracy 10% 2>&1)
-  if echo "$out" | grep -q "^accuracy    --accuracy 10%: picked windowed, 16 windows"; then pass fidelity_accuracy_picks_windowed
+  if echo "$out" | grep -q "^accuracy    --accuracy 10%: picked windowed, 48 windows"; then pass fidelity_accuracy_picks_windowed
   else fail fidelity_accuracy_picks_windowed "$(echo "$out" | grep -E '^(fidelity|accuracy)' | tr '\n' ' ')"; fi
 else
   echo "SKIP fidelity_windowed_within_estimate_1280x720, fidelity_windowed_unit_power_within_estimate (release build only: an 18 s full run)"
@@ -315,10 +330,17 @@ else fail fidelity_accuracy_falls_back_to_full "$(echo "$out" | grep -E '^(fidel
 # a target under every cheap level's error floor skips them: no worker runs,
 # and the choice says why (fidelity_params.h: 15% functional, 3.5% sampled)
 out=$("$bin" interior --res 32x18 --accuracy 2% 2>&1)
-if echo "$out" | grep -q "^accuracy    --accuracy 2%: fell back to full (windowed not tried: windowed: the frame has 576 pixels, too few for windows after 4096 warm-up pixels each (it needs well over 32768; use --fidelity full or sampled); functional not tried: its error floor is 15.0%; sampled not tried: its DRAM MB error floor is 3.5%)" &&
+if echo "$out" | grep -q "^accuracy    --accuracy 2%: fell back to full (windowed not tried: windowed: the frame has 576 pixels, too few for windows after 1024 warm-up pixels each (it needs well over 8192; use --fidelity full or sampled); functional not tried: its error floor is 15.0%; sampled not tried: its DRAM MB error floor is 3.5%)" &&
    ! echo "$out" | grep -q "^workers"; then
   pass fidelity_accuracy_skips_levels_under_their_floor
 else fail fidelity_accuracy_skips_levels_under_their_floor "$(echo "$out" | grep -E '^(accuracy|workers)' | tr '\n' ' ')"; fi
+# primary rays: one window in rtsim's own process says the frame hardly
+# refills its caches, before the lattice or any worker is spent
+out=$("$bin" interior --res 640x360 --accuracy 2% 2>&1)
+if echo "$out" | grep -q "^accuracy    --accuracy 2%: fell back to full (windowed's probe: the frame refills its node L2 and primitive cache about [0-9.]* times (at least 20" &&
+   ! echo "$out" | grep -q "^workers"; then
+  pass fidelity_accuracy_cold_probe_gives_up_early
+else fail fidelity_accuracy_cold_probe_gives_up_early "$(echo "$out" | grep -E '^(accuracy|workers)' | tr '\n' ' ')"; fi
 out=$("$bin" forest --res 96x54 --rays diffuse --accuracy 40% --json "$tmp/acc2.json" 2>&1)
 if echo "$out" | grep -q "^accuracy    --accuracy 40%: picked functional" && [ "$(field "$tmp/acc2.json" fidelity)" = functional ]; then
   pass fidelity_accuracy_picks_cheap_level

@@ -1,0 +1,217 @@
+#!/usr/bin/env python3
+"""paired.py — paired estimates of a sweep: each point's change against a
+baseline point, with its own 95% interval (docs/fidelity.md "Paired
+estimates").
+
+    python3 scripts/paired.py DIR [--baseline KEY=VALUE[,KEY=VALUE..]] [--against FULLDIR]
+
+DIR is a scripts/sweep folder (DIR/jobs.tsv, DIR/results/*.json). Points that
+share scene, ray type, resolution and fixed arguments form a group; within a
+group the baseline is the first point in jobs.tsv order. With --baseline
+the baseline is the point whose keys match it, and the machine and swept
+keys it does not name split the groups further: --baseline
+node_l1.size=8192 compares each machine's sizes with its own 8 KB point,
+--baseline machine=bvh2,node_l1.size=8192 every point with one. Writes DIR/paired.csv: per point and figure
+of merit (MRPS, DRAM MB, mJ/frame) the value, its change against the
+baseline in percent, and the change's 95% half-width in percentage points;
+`unreliable` is 1 when either point is flagged.
+With --against FULLDIR (the same sweep at full fidelity) it adds the full
+model's change and the difference.
+
+Why paired: at the windowed level every machine of a sweep runs the same
+windows (their positions depend on the frame and the plan only), so the
+windows' sampling errors of two machines are strongly correlated and cancel
+in the change. The change's relative error is the difference of the two
+relative errors; its random part is taken from the differences of the two
+runs' window residuals, paired with their neighbours in the image as each
+run's own interval is (collapsed strata, fidelity/estimator.c
+fid_pairs_sumsq, Student t with as many degrees of freedom as pairs). The
+lattice's and the start correction's errors are added in quadrature as if
+independent (they come from the same pixels and positive coefficients, so
+they are positively correlated and this overstates them), the bias bounds
+(cold fills and the floor, one-sided: both runs err the same way) as the
+larger of the two. Points whose windows differ (another plan, or a full
+run) get the plain sum of their two error estimates: no pairing.
+Standard library only.
+"""
+import argparse
+import csv
+import io
+import json
+import math
+import os
+import sys
+
+FIGS = [("mrps", "mrps", "error_estimate.mrps"), ("dram_mb", "dram_bytes", "error_estimate.dram_mb"),
+        ("energy_mj", "energy_mj", "error_estimate.energy_mj")]
+
+# two-sided 95% quantiles of Student's t, 1..30 degrees of freedom (as
+# fidelity/estimator.c fid_t95)
+T95 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.201, 2.179, 2.160, 2.145, 2.131,
+       2.120, 2.110, 2.101, 2.093, 2.086, 2.080, 2.074, 2.069, 2.064, 2.060, 2.056, 2.052, 2.048, 2.045, 2.042]
+
+
+def die(msg):
+    print("paired: " + msg, file=sys.stderr)
+    sys.exit(2)
+
+
+def t95(dof):
+    if dof < 1:
+        return T95[0]
+    return T95[dof - 1] if dof <= 30 else (2.000 if dof <= 60 else 1.960)
+
+
+def pairs_sumsq(r):
+    """fidelity/estimator.c fid_pairs_sumsq: (sum of squared pair differences, pairs)."""
+    m = len(r)
+    if m < 2:
+        return 0.0, 0
+    np_ = m // 2 + m % 2
+    s = 0.0
+    for q in range(np_):
+        a = 2 * q if 2 * q < m - 1 else m - 2
+        s += (r[a] - r[a + 1]) ** 2
+    return s, np_
+
+
+def window_plan(j):
+    """What makes two runs' windows the same: level, count, sizes."""
+    if j.get("fidelity") != "windowed" or not j.get("window.paired_windows"):
+        return None
+    return (j.get("window.count"), j.get("window.pixels"), j.get("window.warm_pixels"), j.get("window.lattice_pixels"))
+
+
+def change(ja, jb, fig):
+    """(change %, half-width in points, paired?) of figure fig of jb against ja."""
+    col, key, est = fig
+    a, b = ja.get(key), jb.get(key)
+    if not a or b is None:
+        return None, None, False
+    ratio = b / a
+    pa, pb = window_plan(ja), window_plan(jb)
+    if pa is not None and pa == pb:
+        n = int(ja["window.paired_windows"])
+        d = [jb["window.resid.%s.%d" % (col, q)] - ja["window.resid.%s.%d" % (col, q)] for q in range(n)]
+        s, np_ = pairs_sumsq(d)
+        other = math.hypot(ja["window.other_err." + col], jb["window.other_err." + col]) / 100
+        bias = max(ja["window.bias_err." + col], jb["window.bias_err." + col]) / 100
+        rel = math.hypot(t95(np_) * math.sqrt(s), other) + bias
+        paired = True
+    else:
+        rel = (ja.get(est, 0) + jb.get(est, 0)) / 100
+        paired = False
+    return 100 * (ratio - 1), 100 * ratio * rel, paired
+
+
+def load(d):
+    jobs = os.path.join(d, "jobs.tsv")
+    if not os.path.isfile(jobs):
+        die("%s not found (a scripts/sweep folder)" % jobs)
+    with open(jobs) as f:
+        rows = [line.rstrip("\n").split("\t") for line in f if line.strip()]
+    header, points = rows[0], rows[1:]
+    if header[:6] != ["name", "scene", "rays", "machine", "res", "set"] or header[-1] != "args":
+        die("%s:1: not a sweep job list" % jobs)
+    res = []
+    for p in points:
+        path = os.path.join(d, "results", p[0] + ".json")
+        if os.path.exists(path):
+            with open(path) as f:
+                res.append((p, json.load(f)))
+    return header, res
+
+
+def parse_baseline(text):
+    if not text:
+        return {}
+    out = {}
+    for kv in text.split(","):
+        if "=" not in kv:
+            die("--baseline %s: expected KEY=VALUE[,KEY=VALUE..]" % text)
+        k, v = kv.split("=", 1)
+        out[k] = v
+    return out
+
+
+def write_paired(d, baseline=None, against=None):
+    """Writes DIR/paired.csv; returns its path and the rows (dicts)."""
+    header, res = load(d)
+    grid = header[6:-1]
+    col = {n: i for i, n in enumerate(header)}
+    want = parse_baseline(baseline)
+    for k in want:
+        if k not in col or k in ("name", "scene", "rays", "res", "set", "args"):
+            die("--baseline %s: allowed keys machine%s" % (k, "".join(", " + g for g in grid)))
+    full = {}
+    if against:
+        _, fres = load(against)
+        full = {tuple(p[1:-1]): j for p, j in fres}   # args (the fidelity) left out
+    # a group shares scene, rays, resolution and fixed arguments, and (with
+    # --baseline) the machine and swept keys --baseline does not name: with
+    # --baseline node_l1.size=8192 each machine gets its own baseline
+    free = [k for k in ["machine"] + grid if want and k not in want]
+    group = lambda p: tuple(p[col[k]] for k in ["scene", "rays", "res", "set", "args"] + free)
+    base = {}
+    for p, j in res:
+        g = group(p)
+        match = all(p[col[k]] == v for k, v in want.items())
+        if g not in base and (match if want else True):
+            base[g] = (p, j)
+    out = io.StringIO()
+    w = csv.writer(out, lineterminator="\n")
+    cols = ["point", "scene", "rays", "machine", "res"] + grid + ["baseline", "fidelity", "unreliable"]
+    for c, _, _ in FIGS:
+        cols += [c, c + "_change_pct", c + "_change_err_pt", c + "_paired"]
+        if against:
+            cols += [c + "_full_change_pct", c + "_change_off_pt"]
+    w.writerow(cols)
+    rows = []
+    for p, j in res:
+        b = base.get(group(p))
+        if b is None:
+            continue
+        # a change is as reliable as its less reliable point
+        flagged = int(bool(j.get("unreliable")) or bool(b[1].get("unreliable")))
+        row = [p[0], p[1], p[2], p[3], p[4]] + [p[col[g]] for g in grid] + [b[0][0], j.get("fidelity", "full"), flagged]
+        rec = {"point": p[0], "baseline": b[0][0]}
+        for fig in FIGS:
+            c, key, _ = fig
+            ch, err, paired = change(b[1], j, fig)
+            row += [j.get(key), "" if ch is None else "%.4f" % ch, "" if err is None else "%.4f" % err, int(paired)]
+            rec[c] = (ch, err)
+            if against:
+                fj, fb = full.get(tuple(p[1:-1])), full.get(tuple(b[0][1:-1]))
+                fch = 100 * (fj[key] / fb[key] - 1) if fj and fb and fb.get(key) else None
+                row += ["" if fch is None else "%.4f" % fch,
+                        "" if fch is None or ch is None else "%.4f" % (ch - fch)]
+                rec[c + "_full"] = fch
+        w.writerow(row)
+        rows.append(rec)
+    path = os.path.join(d, "paired.csv")
+    tmp = path + ".tmp.%d" % os.getpid()
+    with open(tmp, "w", newline="") as f:
+        f.write(out.getvalue())
+    os.replace(tmp, path)
+    return path, rows
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("dir")
+    ap.add_argument("--baseline")
+    ap.add_argument("--against")
+    a = ap.parse_args()
+    path, rows = write_paired(a.dir, a.baseline, a.against)
+    print("paired: %d points against their baselines in %s" % (len(rows), path))
+    if a.against:
+        worst = max((abs(r[c][0] - r[c + "_full"]) for r in rows for c, _, _ in FIGS
+                     if r[c][0] is not None and r.get(c + "_full") is not None), default=0.0)
+        outside = sum(1 for r in rows for c, _, _ in FIGS
+                      if r[c][0] is not None and r.get(c + "_full") is not None and abs(r[c][0] - r[c + "_full"]) > r[c][1])
+        print("paired: worst |change - full's change| %.3f points; %d changes outside their interval" % (worst, outside))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

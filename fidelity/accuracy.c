@@ -1,6 +1,5 @@
 /* accuracy.c — --accuracy P%: the cheapest level expected within P%
- * (docs/fidelity.md "--accuracy P%"), from the levels of fidelity.c
- * (levels.h). */
+ * (docs/fidelity.md "--accuracy P%"), from the levels' runs (levels.h). */
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>

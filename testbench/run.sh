@@ -5,19 +5,23 @@
 # (the folders mirror the source tree; they get
 # RTSIM_BIN=BUILD_DIR/bin and RTSIM_TMP, a scratch folder). Each case prints
 # PASS/FAIL/SKIP (see tb.h). Ends with the line "N passed, N failed, N skipped".
-# Set TB_FILTER=regex to run only matching programs.
+# Set TB_FILTER=regex to run only matching programs. Before the count it
+# names the slowest programs (wall seconds), to keep the suite short.
 set -u
 cd "$(dirname "$0")/.."
 pass=0 fail=0 skip=0
 failed_names=()
+durations=()   # "seconds variant:label", one per program
 per_program_timeout=${TB_TIMEOUT:-900}
 
 run_one() { # variant, label, command...
   local variant=$1 label=$2; shift 2
   local out rc
   out=$(mktemp)
+  local t0=$SECONDS
   timeout "$per_program_timeout" "$@" >"$out" 2>"$out.err"
   rc=$?
+  durations+=("$((SECONDS - t0)) $variant:$label")
   local p f s
   p=$(grep -c '^PASS ' "$out"); f=$(grep -c '^FAIL ' "$out"); s=$(grep -c '^SKIP ' "$out")
   sed -e "s|^|[$variant] |" "$out"
@@ -59,6 +63,8 @@ for build in "$@"; do
     run_one "$variant" "$name" bash "$t"
   done < <(find testbench -name 'tb_*.sh' -type f | LC_ALL=C sort)
 done
+slowest=$(printf '%s\n' "${durations[@]}" | sort -rn | head -8 | awk '{ printf "%s%s %ss", (NR > 1 ? ", " : ""), $2, $1 }')
+echo "slowest programs: $slowest"
 if [ ${#failed_names[@]} -gt 0 ]; then echo "failed programs: ${failed_names[*]}"; fi
 echo "$pass passed, $fail failed, $skip skipped"
 [ "$fail" -eq 0 ]

@@ -34,13 +34,15 @@ larger of the two. Points whose windows differ (another plan, or a full
 run) get the plain sum of their two error estimates: no pairing.
 Standard library only.
 """
-import argparse
 import csv
 import io
 import json
 import math
 import os
 import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import rtsim_runs  # noqa: E402
 
 FIGS = [("mrps", "mrps", "error_estimate.mrps"), ("dram_mb", "dram_bytes", "error_estimate.dram_mb"),
         ("energy_mj", "energy_mj", "error_estimate.energy_mj")]
@@ -52,8 +54,7 @@ T95 = [12.706, 4.303, 3.182, 2.776, 2.571, 2.447, 2.365, 2.306, 2.262, 2.228, 2.
 
 
 def die(msg):
-    print("paired: " + msg, file=sys.stderr)
-    sys.exit(2)
+    rtsim_runs.die("paired", msg)
 
 
 def t95(dof):
@@ -101,7 +102,7 @@ def change(ja, jb, fig):
     else:
         rel = (ja.get(est, 0) + jb.get(est, 0)) / 100
         paired = False
-    return 100 * (ratio - 1), 100 * ratio * rel, paired
+    return rtsim_runs.change_pct(b, a), 100 * ratio * rel, paired
 
 
 def load(d):
@@ -182,25 +183,26 @@ def write_paired(d, baseline=None, against=None):
             rec[c] = (ch, err)
             if against:
                 fj, fb = full.get(tuple(p[1:-1])), full.get(tuple(b[0][1:-1]))
-                fch = 100 * (fj[key] / fb[key] - 1) if fj and fb and fb.get(key) else None
+                fch = (rtsim_runs.change_pct(fj[key], fb[key])
+                       if fj and fb and fj.get(key) is not None and fb.get(key) is not None else None)
                 row += ["" if fch is None else "%.4f" % fch,
                         "" if fch is None or ch is None else "%.4f" % (ch - fch)]
                 rec[c + "_full"] = fch
         w.writerow(row)
         rows.append(rec)
     path = os.path.join(d, "paired.csv")
-    tmp = path + ".tmp.%d" % os.getpid()
-    with open(tmp, "w", newline="") as f:
-        f.write(out.getvalue())
-    os.replace(tmp, path)
+    rtsim_runs.write_atomic(path, out.getvalue())
     return path, rows
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("dir")
-    ap.add_argument("--baseline")
-    ap.add_argument("--against")
+    ap = rtsim_runs.arg_parser("scripts/paired.py", __doc__)
+    ap.add_argument("dir", metavar="DIR", help="a scripts/sweep folder (DIR/jobs.tsv, DIR/results/*.json)")
+    ap.add_argument("--baseline", metavar="KEY=VALUE[,KEY=VALUE..]",
+                    help="the baseline of each group: the point whose keys match (machine or a swept key); "
+                    "default: the first point of each group in jobs.tsv order")
+    ap.add_argument("--against", metavar="FULLDIR",
+                    help="the same sweep at full fidelity: adds the full model's change and the difference")
     a = ap.parse_args()
     path, rows = write_paired(a.dir, a.baseline, a.against)
     print("paired: %d points against their baselines in %s" % (len(rows), path))

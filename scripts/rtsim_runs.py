@@ -178,8 +178,11 @@ def arg_parser(prog, doc):
 
 
 def write_atomic(path, text):
-    tmp = path + ".tmp"
-    with open(tmp, "w") as f:
+    """Writes text to path through a temporary name of this process, renamed
+    when complete: a reader never sees half a file, two writers never share
+    a temporary."""
+    tmp = "%s.tmp.%d" % (path, os.getpid())
+    with open(tmp, "w", newline="") as f:
         f.write(text)
     os.replace(tmp, path)
 

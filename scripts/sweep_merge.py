@@ -167,7 +167,6 @@ def write_paired_if_windowed(d, results):
     group's baseline with a paired interval) when some point ran windowed."""
     if not any(j.get("fidelity") == "windowed" for _, j in results):
         return
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     import paired
     path, rows = paired.write_paired(d)
     print(f"sweep: paired changes of {len(rows)} points against their baselines in {path}")
@@ -178,7 +177,6 @@ def write_report(d, header, grid, results, present, npoints):
     each swept key, one line per combination of what else varies, the
     Pareto front of MRPS/mm2 (higher is better) against mJ/frame (lower is
     better) over all points, and every point's figures in a table."""
-    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
     import report_html as R
     ok = [(p, j) for p, j in results if not j.get("run_failed")]
     dims = ["scene", "rays", "machine"] + grid

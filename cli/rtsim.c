@@ -18,6 +18,7 @@
 #include "frame/frame.h"
 #include "fidelity/cost_estimate.h"
 #include "fidelity/fidelity.h"
+#include "fidelity/fidelity_params.h"
 #include "kernel/fork_pool.h"
 #include "kernel/interrupt.h"
 #include "kernel/stats.h"
@@ -92,6 +93,10 @@ static int parse_options(int argc, char **argv, options *o)
     const char *levels[FID_LEVEL_COUNT + 1] = {NULL};
     for (int i = 0; i < FID_LEVEL_COUNT; i++)
         levels[i] = fid_level_name((fid_level)i);
+    /* the plan's default comes from the fidelity parameters, not a copy of it */
+    char windows_help[96];
+    snprintf(windows_help, sizeof windows_help, "windowed: windows of consecutive pixels ({range}; default %d)",
+             fid_params_get()->win_snap_count);
     const cli_opt table[] = {
         {.name = "view", .kind = CLI_STRING, .to.str = &o->view, .arg = "NAME"},
         {.name = "views", .kind = CLI_STRING, .to.str = &o->views, .arg = "FILE"},
@@ -152,7 +157,7 @@ static int parse_options(int argc, char **argv, options *o)
          .hi = 1, .help = "sampled, windowed: fraction of the pixels modelled\n"
                           "({range}; default 1/16 sampled, 1/8 windowed)"},
         {.name = "windows", .kind = CLI_UINT, .to.u = &o->windows, .arg = "N", .min = 2, .max = 4096,
-         .help = "windowed: windows of consecutive pixels ({range}; default 16)"},
+         .help = windows_help},
         {.name = "jobs", .kind = CLI_UINT, .to.u = &o->jobs, .arg = "N", .min = 1, .max = RTSIM_MAX_JOBS,
          .help = "fidelity levels: run independent pieces (sample groups, the\n"
                  "functional pass, pilots) in up to N worker processes at once\n"

@@ -14,7 +14,11 @@ Arguments:
     -h, --help   this text
 Exit 2 when the header holds no "build/bin/rtsim ..." command."""
 import shlex
+import signal
 import sys
+
+# a reader that stops early (`| head`) ends this quietly, as it does a C tool
+signal.signal(signal.SIGPIPE, signal.SIG_DFL)
 
 if sys.argv[1:2] in (["-h"], ["--help"]):
     print(__doc__)

@@ -3,7 +3,9 @@
 # stdout, before doing anything else) with a summary that is a whole sentence
 # and a description of each option: every option its usage or synopsis line
 # names, and every option line of the help, has words after it (on the line
-# or the next, deeper-indented one). Runs each script's --help only.
+# or the next, deeper-indented one). A reader that stops early (`--help |
+# head -1`) ends the script quietly, with no traceback: its help is written
+# into a pipe already closed. Runs each script's --help only.
 set -u
 cd "$(dirname "$0")/../.."
 tmp=${RTSIM_TMP:-/tmp}/tb_scripts_help
@@ -89,4 +91,18 @@ for name in scripts:
         print("FAIL scripts_help_%s: %s" % (name, "; ".join(problems)))
     else:
         print("PASS scripts_help_%s" % name)
+    # a closed pipe: the reader is gone before the first byte
+    r, w = os.pipe()
+    os.close(r)
+    try:
+        q = subprocess.run([path, "--help"], cwd=tmp, stdout=w, stderr=subprocess.PIPE, text=True, timeout=60,
+                           env=dict(os.environ, RTSIM="/nonexistent/rtsim"))
+        err = q.stderr
+    except subprocess.TimeoutExpired:
+        err = "did not return within 60 s"
+    os.close(w)
+    if "Traceback" in err or "Error" in err or "did not return" in err:
+        print("FAIL scripts_help_pipe_%s: --help into a closed pipe: %s" % (name, err.strip().splitlines()[-1][:120]))
+    else:
+        print("PASS scripts_help_pipe_%s" % name)
 PY

@@ -10,6 +10,34 @@
 #include "fidelity/levels.h"
 #include "fidelity/windowed.h"
 
+/* What the plan would need to meet acc, for the user to choose a target:
+ * the windows' intervals (ci, already scaled to the plan's windows) shrink
+ * as 1 / sqrt(windows); the lattice's and the start's errors (other) and
+ * the bias bounds do not, so a figure whose other errors reach acc cannot
+ * meet it with any number of windows. plan_share: the plan's pixels
+ * through the model, a fraction of the frame. */
+static void windowed_need(const double *ci, const double *other, const double *bias, double acc,
+                          double plan_share, char *out, size_t len)
+{
+    static const char *const fig_name[FID_WIN_HEADLINE] = {"MRPS", "DRAM MB", "mJ/frame"};
+    double scale = 1;
+    for (int k = 0; k < FID_WIN_HEADLINE; k++) {
+        double rest = acc - bias[k], room2 = rest * rest - other[k] * other[k];
+        if (rest <= 0 || room2 <= 0) {
+            snprintf(out, len, "; its lattice and bias errors alone are %.1f%% on %s",
+                     100 * (bias[k] + other[k]), fig_name[k]);
+            return;
+        }
+        scale = fmax(scale, ci[k] * ci[k] / room2);
+    }
+    if (scale * plan_share > 1)
+        snprintf(out, len, "; %.3g%% would need about %.1fx the plan's windows, more than the frame holds", 100 * acc,
+                 scale);
+    else
+        snprintf(out, len, "; %.3g%% would need about %.1fx the plan's windows (%.0f%% of the frame through the model)",
+                 100 * acc, scale, 100 * scale * plan_share);
+}
+
 /* --accuracy, its first stage, spending little before it knows (a
  * fallback to full should cost at most a few percent over a plain full run):
  *   1. a cold probe: one window after a win_warm_pixels warm-up from empty
@@ -62,16 +90,21 @@ static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *p
         double shrink = sqrt((double)wd.windows / wd.planned) * fid_t95((int)(wd.planned / 2 + wd.planned % 2)) /
                         fid_t95((int)(wd.windows / 2 + wd.windows % 2));
         for (int k = 0; k < FID_WIN_HEADLINE; k++) {
-            double c = ci[k] * shrink;
-            worst_pred = fmax(worst_pred, sqrt(c * c + other[k] * other[k]) + bias[k]);
+            ci[k] *= shrink;   /* the plan's */
+            worst_pred = fmax(worst_pred, sqrt(ci[k] * ci[k] + other[k] * other[k]) + bias[k]);
         }
         bool cold_flag = wd.cold_share > fp->win_max_cold;
         if (cold_flag || worst_pred > acc) {
+            char need[160] = "";
+            if (!cold_flag)
+                windowed_need(ci, other, bias, acc, (double)wd.planned * (wd.window_pixels + wd.warm_pixels) / npix,
+                              need, sizeof need);
             snprintf(why, whylen,
-                     "windowed's pilot of %u windows (%.1f%% of the pixels through the model): %s %.1f%%%s",
+                     "windowed's pilot of %u windows (%.1f%% of the pixels through the model): %s %.1f%%%s%s",
                      wd.windows, 100.0 * wd.model_pixels / npix,
                      cold_flag ? "cold fills" : "estimated error with the plan's windows about",
-                     cold_flag ? 100.0 * wd.cold_share : 100.0 * worst_pred, cold_flag ? " (warm-ups too short)" : "");
+                     cold_flag ? 100.0 * wd.cold_share : 100.0 * worst_pred, cold_flag ? " (warm-ups too short)" : "",
+                     need);
             fid_windowed_free(&wd);
             return 0;
         }
@@ -133,7 +166,7 @@ int fid_accuracy_run(const fid_job *job, double acc, fid_outcome *o, char *err, 
     fid_outcome trial = {0};
     if (fid_lv_fresh_trial(&trial, acc, err, errlen))
         return 2;
-    char why[400] = "";
+    char why[480] = "";
     int rc = 0;
     /* A level whose estimate can never come under the target is not tried:
      * its error floor is known before it runs (functional: func_err_base on

@@ -55,7 +55,7 @@ typedef struct fid_result {
     uint64_t unreliable;          /* 1: a figure may lie outside its estimate */
     char reason[1024];           /* why unreliable ("" when reliable) */
     char detail[512];             /* how the figures were obtained (pilot, sample...) */
-    char choice[512];             /* --accuracy: what was picked and why ("" otherwise) */
+    char choice[768];             /* --accuracy: what was picked and why ("" otherwise) */
     double accuracy;              /* --accuracy target (fraction), 0 when not asked */
 } fid_result;
 

@@ -316,6 +316,24 @@ PY
   out=$("$bin" interior --rays diffuse --accuracy 10% 2>&1)
   if echo "$out" | grep -q "^accuracy    --accuracy 10%: picked windowed, 48 windows"; then pass fidelity_accuracy_picks_windowed
   else fail fidelity_accuracy_picks_windowed "$(echo "$out" | grep -E '^(fidelity|accuracy)' | tr '\n' ' ')"; fi
+  # when the pilot gives up, it says what the target would need: the
+  # windows' interval shrinks as 1/sqrt(windows), so halving the target
+  # needs at least 4x the windows; beyond the frame it says so
+  o10=$("$bin" interior --res 480x270 --rays diffuse --accuracy 10% 2>&1)
+  o5=$("$bin" interior --res 480x270 --rays diffuse --accuracy 5% 2>&1)
+  if python3 - "$o10" "$o5" <<'PY'
+import re, sys
+m10 = re.search(r"plan's windows about ([0-9.]+)%; 10% would need about ([0-9.]+)x the plan's windows "
+                r"\(([0-9]+)% of the frame through the model\)", sys.argv[1])
+m5 = re.search(r"; 5% would need about ([0-9.]+)x the plan's windows, more than the frame holds", sys.argv[2])
+assert m10 and m5, (sys.argv[1], sys.argv[2])
+e, n10, share, n5 = float(m10.group(1)), float(m10.group(2)), float(m10.group(3)), float(m5.group(1))
+assert e > 10 and n10 > 1, (e, n10)
+assert abs(share / n10 - 12.5) <= 1.5, (share, n10)     # the plan: 1/8 of the frame
+assert n5 >= 3.9 * n10, (n5, n10)
+PY
+  then pass fidelity_accuracy_says_what_windowed_would_need
+  else fail fidelity_accuracy_says_what_windowed_would_need "$(echo "$o10 $o5" | grep -E '^accuracy' | tr '\n' ' ')"; fi
 else
   echo "SKIP fidelity_windowed_within_estimate_1280x720, fidelity_windowed_unit_power_within_estimate (release build only: an 18 s full run)"
 fi

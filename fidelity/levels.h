@@ -5,7 +5,9 @@
  * (accuracy.c) call it: each fills an outcome made by fid_lv_fresh_trial()
  * and returns 0, or non-zero with err set, as fid_run (fidelity.h). Then
  * the parts the level files (level_*.c) share: the cycle model on a pixel
- * subset and its figures (model_run.c), the registry of estimated figures
+ * subset and its figures (model_run.c: from the model's typed figures,
+ * accel_top_figures in model/accel_top.h, not from statistics looked up by
+ * name), the registry of estimated figures
  * (own_stats.c), the independent pieces and the energy ratio estimator
  * (level_functional.c). */
 #ifndef RTSIM_FIDELITY_LEVELS_H
@@ -61,8 +63,8 @@ typedef struct model_fig {
 uint32_t *fid_band_subset(const fid_job *job, uint32_t period, uint32_t group, uint32_t groups, uint32_t *n);
 /* the band period of a pilot on about `fraction` of the pixels */
 uint32_t fid_pilot_period(const fid_job *job, double fraction);
-/* a run's figures; 0, or -1 naming the missing statistic in err */
-int fid_get_fig(accel_top *t, model_fig *f, char *err, size_t errlen);
+/* a run's figures, from the model's typed figures (accel_top_figures) */
+void fid_get_fig(const accel_top *t, model_fig *f);
 /* the model with cfg on map[0..n) (NULL: the frame) into *fig; *keep: the
  * top handed back; tag: --series rows written. 0, 1 on a simulation
  * failure, 2 on bad input */

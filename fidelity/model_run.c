@@ -1,7 +1,7 @@
 /* model_run.c — the cycle model on part or all of a frame, as the levels run
  * it (levels.h): interleaved row bands as pixel subsets, a run on a subset
- * (subset.h) with its --series rows, the figures the levels read from it (a
- * missing statistic is an error, not 0), and the full level itself. */
+ * (subset.h) with its --series rows, the figures the levels read from it
+ * (the model's typed figures, accel_top.h), and the full level itself. */
 #include "fidelity/levels.h"
 
 #include <math.h>
@@ -52,53 +52,34 @@ uint32_t fid_pilot_period(const fid_job *job, double fraction)
 
 /* ---- running the cycle model on a pixel subset (subset.h) -------------- */
 
-/* A statistic the levels need: absent, it is a renamed one, which must not
- * read as 0 (the first missing name is kept in *missing). */
-static double stat_need(ks_stats *st, const char *name, const char **missing)
+/* The figures of a cycle-model run, from the model's typed figures
+ * (accel_top_figures). The energy figures are set when the run has an
+ * energy model, the row-hit rate when it has the LPDDR3 model; the rest
+ * are 0 without them. */
+void fid_get_fig(const accel_top *t, model_fig *f)
 {
-    double v = 0;
-    if (ks_stats_value(st, name, &v) && !*missing)
-        *missing = name;
-    return v;
-}
-
-/* The figures of a cycle-model run; 0, or -1 with the first statistic that
- * is missing named in err. The energy figures are needed when the run has
- * an energy model; the memory's when it has the LPDDR3 model (the fixed
- * memory has neither rows nor a latency sum). */
-int fid_get_fig(accel_top *t, model_fig *f, char *err, size_t errlen)
-{
-    ks_stats *st = accel_top_stats(t);
-    const char *missing = NULL, *opt = NULL;
-    char names[2 * EU_COUNT][64];
+    accel_figures a;
+    accel_top_figures(t, &a);
     memset(f, 0, sizeof *f);
-    f->cycles = stat_need(st, "cycles", &missing);
-    f->rays = stat_need(st, "rays", &missing);
-    f->mrps = stat_need(st, "mrps", &missing);
-    f->dram_bytes = stat_need(st, "dram_bytes", &missing);
-    f->dram_gbs = stat_need(st, "dram_bandwidth_gbs", &missing);
-    bool energy = ks_stats_value(st, "energy_mj", &f->energy_mj) == 0;
-    for (int u = 0; energy && u < EU_COUNT; u++) {
-        snprintf(names[2 * u], sizeof names[0], "energy.%s_static_mj", energy_unit_name((energy_unit)u));
-        f->static_mj += stat_need(st, names[2 * u], &missing);
-        snprintf(names[2 * u + 1], sizeof names[0], "energy.%s_dynamic_mj", energy_unit_name((energy_unit)u));
-        if (u < EU_DRAM)
-            f->unit_dyn_mj[u] = stat_need(st, names[2 * u + 1], &missing);
+    f->cycles = (double)a.cycles;
+    f->rays = (double)a.rays;
+    f->mrps = a.mrps;
+    f->dram_bytes = (double)a.dram_bytes;
+    f->dram_gbs = a.dram_gbs;
+    if (a.energy) {
+        f->energy_mj = a.energy_mj;
+        for (int u = 0; u < EU_COUNT; u++)   /* in energy.h's order, as the sum always was */
+            f->static_mj += a.unit_static_mj[u];
+        for (int u = 0; u < EU_DRAM; u++)
+            f->unit_dyn_mj[u] = a.unit_dynamic_mj[u];
+        f->dram_mj = a.unit_mj[EU_DRAM];
+        f->dram_static_mj = a.unit_static_mj[EU_DRAM];
     }
-    if (energy) {
-        f->dram_mj = stat_need(st, "energy.dram_mj", &missing);
-        f->dram_static_mj = stat_need(st, "energy.dram_static_mj", &missing);
-    }
-    bool lpddr3 = ks_stats_value(st, "memory.requests", &f->mem_requests) == 0;
-    if (lpddr3) {
-        f->mem_latency = f->mem_requests > 0 ? stat_need(st, "memory.latency_sum", &missing) / f->mem_requests : 0;
-        f->row_hit = stat_need(st, "dram.row_hit_rate", &opt);   /* only with a row-level DRAM model */
-    }
-    if (missing) {
-        snprintf(err, errlen, "the model's statistic %s is missing (renamed?); the fidelity levels read it", missing);
-        return -1;
-    }
-    return 0;
+    /* both memories count requests and their latencies */
+    f->mem_requests = (double)a.mem_requests;
+    f->mem_latency = f->mem_requests > 0 ? (double)a.mem_latency_sum / f->mem_requests : 0;
+    if (a.lpddr3)
+        f->row_hit = a.row_hit_rate;
 }
 
 /* Runs the cycle model with cfg on the pixels map[0..n) (map NULL: the
@@ -112,8 +93,7 @@ int fid_run_model_series(const fid_job *job, const rtcfg *cfg, const uint32_t *m
     if (fid_subset_open_series(&sub, job, cfg, map, n, tag, piece, tag, err, errlen))
         return 2;
     int rc = accel_top_run(sub.top, map ? NULL : job->progress, job->progress_user, err, errlen) ? 1 : 0;
-    if (fid_get_fig(sub.top, fig, err, errlen) && rc == 0)
-        rc = 2;
+    fid_get_fig(sub.top, fig);
     if (keep && rc == 0) {
         accel_top_detach_series(sub.top);
         *keep = sub.top;

@@ -36,8 +36,8 @@ struct ks_stats {
     stat_entry **e;
     unsigned n, cap;
     /* name -> index + 1 (0: empty), open addressing, a power of two at
-     * least twice n: lookups by name (ks_stats_value, e.g. the energy
-     * model's reads during a run) in constant time */
+     * least twice n: lookups by name (a registration's duplicate
+     * check, a ratio's terms, ks_stats_value) in constant time */
     unsigned *slot, nslot;
     char error[256];
 };

@@ -126,16 +126,12 @@ static uint32_t trv_loop_min(const rtcfg *cfg)
 }
 
 const accel_fifo_desc accel_ray_fifos[ACCEL_FIFO_COUNT] = {
-    [ACCEL_FIFO_NEW] = {"trv#.new", "fifo.ray_new", "sched", "trv#", false, {NULL, NULL}, NULL},
-    [ACCEL_FIFO_LEAF] = {"trv#.leaf", "fifo.ray_leaf", "trv#", "ist", false, {NULL, NULL}, NULL},
-    [ACCEL_FIFO_RETURN] = {"trv#.return", "fifo.ray_return", "ist", "trv#", false, {NULL, NULL}, NULL},
-    [ACCEL_FIFO_DONE] = {"trv#.done", "fifo.ray_done", "trv#", "sched", false, {NULL, NULL}, NULL},
-    /* every ray the TRV issues from its loop was written to it */
-    [ACCEL_FIFO_TRV_LOOP] = {"trv#.loop", "fifo.ray_trv_loop", "trv#", "trv#", true, {"trv#.issue_loop", NULL},
-                             trv_loop_min},
-    /* a ray goes round the IST's loop after each missed (or blocked) test */
-    [ACCEL_FIFO_IST_LOOP] = {"ist.loop", "fifo.ray_ist_loop", "ist", "ist", true,
-                             {"ist.loops_miss", "ist.loops_blocked"}, NULL},
+    [ACCEL_FIFO_NEW] = {"trv#.new", "fifo.ray_new", "sched", "trv#", false, NULL},
+    [ACCEL_FIFO_LEAF] = {"trv#.leaf", "fifo.ray_leaf", "trv#", "ist", false, NULL},
+    [ACCEL_FIFO_RETURN] = {"trv#.return", "fifo.ray_return", "ist", "trv#", false, NULL},
+    [ACCEL_FIFO_DONE] = {"trv#.done", "fifo.ray_done", "trv#", "sched", false, NULL},
+    [ACCEL_FIFO_TRV_LOOP] = {"trv#.loop", "fifo.ray_trv_loop", "trv#", "trv#", true, trv_loop_min},
+    [ACCEL_FIFO_IST_LOOP] = {"ist.loop", "fifo.ray_ist_loop", "ist", "ist", true, NULL},
 };
 
 bool accel_fifo_per_trv(const accel_fifo_desc *d) { return strchr(d->name, '#') != NULL; }

@@ -42,9 +42,9 @@ void accel_params_get(const rtcfg *cfg, accel_params *out);
  * FIFO per TRV ("trv#.new": trv0.new, trv1.new, ...), another row is one
  * FIFO. key: the [fifo] key of its capacity. producer, consumer: the units
  * at its ends ('#' as in name). ring: the FIFO is a ring inside its consumer
- * (pipe_ring.h: the loop FIFOs) rather than a kernel FIFO; ring_writes: the
- * consumer's statistics whose sum counts the ring's writes (= its reads),
- * for the energy model. min: its deadlock-free minimum on its own (below;
+ * (pipe_ring.h: the loop FIFOs) rather than a kernel FIFO (the energy
+ * model counts its writes from the consumer's figures: accel_top.c,
+ * ring_writes). min: its deadlock-free minimum on its own (below;
  * NULL: 1). accel_top.c builds, binds and auto-sizes the FIFOs from this
  * table and gives them to the energy model. */
 typedef enum {
@@ -60,7 +60,6 @@ typedef enum {
 typedef struct accel_fifo_desc {
     const char *name, *key, *producer, *consumer;
     bool ring;
-    const char *ring_writes[2];
     uint32_t (*min)(const rtcfg *cfg);
 } accel_fifo_desc;
 

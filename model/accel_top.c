@@ -3,7 +3,6 @@
 
 #include <assert.h>
 #include <math.h>
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -65,40 +64,12 @@ struct accel_top {
     double stat_dram_pj_per_byte;
     accel_series *series;      /* interval statistics, NULL: none (model/series.h) */
     uint64_t *series_busy;     /* the TRVs' busy cycles at a sample */
-    /* the first statistic the energy adapter asked for and the registry
-     * did not have ("" none): accel_top_create refuses the machine rather
-     * than price a renamed statistic as 0 */
-    char missing_stat[160];
+    /* what each utilization statistic divides: a unit's busy cycles (the
+     * TRVs', then the IST's) by the frame's cycles */
+    struct util_ref {
+        const uint64_t *busy, *cycles;
+    } util[ACCEL_MAX_TRV + 1];
 };
-
-/* The statistic named by the format, or 0 when no statistic has that name
- * (the summary and the energy model read the units' figures this way). */
-static double stat_named(const ks_stats *st, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static double stat_named(const ks_stats *st, const char *fmt, ...)
-{
-    char name[160];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(name, sizeof name, fmt, ap);
-    va_end(ap);
-    return ks_stats_value_or(st, name, 0.0);
-}
-
-/* stat_named for the energy adapter: the statistic must exist; the first
- * that does not is kept in t->missing_stat (checked at creation). */
-static double stat_need(accel_top *t, const char *fmt, ...) __attribute__((format(printf, 2, 3)));
-static double stat_need(accel_top *t, const char *fmt, ...)
-{
-    char name[160];
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(name, sizeof name, fmt, ap);
-    va_end(ap);
-    double v = 0;
-    if (ks_stats_value(t->stats, name, &v) && !t->missing_stat[0])
-        snprintf(t->missing_stat, sizeof t->missing_stat, "%s", name);
-    return v;
-}
 
 /* Instances of a row of accel_ray_fifos: one per TRV, or one. */
 static uint32_t ray_fifo_instances(const accel_top *t, const accel_fifo_desc *d)
@@ -144,17 +115,16 @@ static int build_ray_fifos(accel_top *t, const rtcfg *cfg, char *err, size_t err
 static double util_formula(const ks_stats *reg, void *user)
 {
     (void)reg;
-    const uint64_t *busy = user;
-    /* user points at a busy counter; the cycles live in a fixed place of the
-     * top struct, found through the registry */
-    double cyc = 0;
-    ks_stats_value(reg, "cycles", &cyc);
-    return cyc > 0 ? (double)*busy / cyc : 0.0;
+    const struct util_ref *u = user;
+    double cyc = (double)*u->cycles;
+    return cyc > 0 ? (double)*u->busy / cyc : 0.0;
 }
 
-static int register_util(ks_stats *st, const ks_module_desc *d, const char *unit, const uint64_t *busy)
+/* unit.utilization: its busy cycles over the frame's, through t->util[k]. */
+static int register_util(accel_top *t, int k, const ks_module_desc *d, const char *unit, const uint64_t *busy)
 {
-    return ks_stat_decl_formula(st, d, unit, "utilization", util_formula, (void *)busy);
+    t->util[k] = (struct util_ref){busy, &t->stat_cycles};
+    return ks_stat_decl_formula(t->stats, d, unit, "utilization", util_formula, &t->util[k]);
 }
 
 /* The frame's figures, registered by the top level itself. */
@@ -297,67 +267,146 @@ static energy_model *build_energy_model(accel_top *t, const rtcfg *cfg, char *er
     return em;
 }
 
-/* Adds the reads and writes of kernel FIFO `name` (its fifo.<name>.*
- * statistics) to the energy model's FIFO j. */
-static void add_fifo_activity(energy_activity *a, int j, accel_top *t, const char *name)
+void accel_top_figures(const accel_top *t, accel_figures *out)
 {
-    a->fifo_reads[j] += stat_need(t, "fifo.%s.reads", name);
-    a->fifo_writes[j] += stat_need(t, "fifo.%s.writes", name);
+    accel_figures f = {0};
+    f.cycles = t->stat_cycles;
+    f.rays = t->stat_rays;
+    f.mrps = t->stat_mrps;
+    f.dram_bytes = t->stat_dram_bytes;
+    f.dram_gbs = t->stat_dram_gbs;
+    f.in_flight_mean = t->stat_in_flight;
+    f.dram_node_bytes = t->stat_traffic[0];
+    f.dram_triangle_bytes = t->stat_traffic[1];
+    f.dram_footprint_bytes = t->stat_traffic[2];
+    f.dram_refetch_bytes = t->stat_traffic[3];
+    f.dram_compulsory_misses = t->stat_traffic[4];
+    f.dram_refetch_misses = t->stat_traffic[5];
+    f.dram_pj_per_byte = t->stat_dram_pj_per_byte;
+    const sched_unit *s = t->sched;
+    f.primaries = s->primaries;
+    f.bounces = s->bounces;
+    f.failed = s->failed;
+    f.occlusion = s->src.occlusion;   /* as sched_register */
+    f.occlusion_rays = s->occlusion_rays;
+    f.occluded = s->occluded;
+    f.max_in_flight = s->max_in_flight;
+    f.latency_mean = sched_latency_mean(s);
+    f.trv_count = t->p.trv_count;
+    for (uint32_t i = 0; i < t->p.trv_count; i++) {
+        const trv_unit *u = t->trv[i];
+        f.trv_busy_cycles[i] = u->busy_cycles;
+        f.trv_flops += u->flops;
+        f.trv_sort_passes += u->core.st.sort_passes;
+        f.trv_stack_pops += u->core.stack.st.pops;
+        f.trv_stack_pushes += u->core.stack.st.pushes;
+        f.trv_issue_loop += u->issue_loop;
+        const cache_stats *cs = cache_core_stats_live(memsys_node_l1(t->mem, (int)i));
+        f.node_l1.accesses += cs->accesses;
+        f.node_l1.hits += cs->hits;
+        f.node_l1.fills += cs->fills;
+    }
+    f.ist_busy_cycles = t->ist->busy_cycles;
+    f.ist_flops = t->ist->flops;
+    f.ist_loops_miss = t->ist->core.st.loops_miss;
+    f.ist_loops_blocked = t->ist->core.st.loops_blocked;
+    accel_cache_figures *level[2] = {&f.node_l2, &f.prim};
+    const cache_core *core[2] = {memsys_node_l2(t->mem), memsys_prim(t->mem)};
+    for (int k = 0; k < 2; k++) {
+        const cache_stats *cs = cache_core_stats_live(core[k]);
+        *level[k] = (accel_cache_figures){cs->accesses, cs->hits, cs->fills};
+    }
+    for (int k = 0; k < 2; k++)
+        mem_arbiter_input(memsys_mem_arbiter(t->mem), k, &f.mem_arbiter[k]);
+    f.mem_requests = memsys_memory_requests(t->mem);
+    f.mem_latency_sum = memsys_memory_latency_sum(t->mem);
+    dram_port *port = memsys_dram_port(t->mem);
+    if (port) {
+        f.lpddr3 = true;
+        f.row_hit_rate = dram_port_row_hit_rate(port);
+    }
+    if (t->energy) {
+        const energy_result *r = &t->energy->r;
+        f.energy = true;
+        f.energy_mj = r->total_energy_mj;
+        memcpy(f.unit_mj, r->energy_mj, sizeof f.unit_mj);
+        memcpy(f.unit_dynamic_mj, r->dynamic_mj, sizeof f.unit_dynamic_mj);
+        memcpy(f.unit_static_mj, r->static_mj, sizeof f.unit_static_mj);
+        if (t->energy->m.dram_modeled) {
+            f.dram_energy = true;
+            dram_port_energy_uJ(port, &f.dram_energy_uJ, &f.dram_background_uJ);
+        }
+    }
+    *out = f;
 }
 
-/* The energy activity of the run so far, from the statistics registry:
- * every count the energy model prices, seconds of frame time, DRAM energy
- * up to the DRAM port's statistics end (the current time until
- * finish_stats sets it) and dram_bytes. */
-static void gather_activity(accel_top *t, double seconds, double dram_bytes, energy_activity *out)
+/* Adds the reads and writes of kernel FIFO ff to the energy model's FIFO j. */
+static void add_fifo_activity(energy_activity *a, int j, const ks_fifo *ff)
+{
+    a->fifo_reads[j] += (double)ks_fifo_total_reads(ff);
+    a->fifo_writes[j] += (double)ks_fifo_total_writes(ff);
+}
+
+/* The writes of ring row r of accel_ray_fifos over all its instances (=
+ * its reads: a ray written to a loop ring comes back once): every ray a
+ * TRV issues from its loop was written to it; a ray goes round the IST's
+ * loop after each missed or blocked test. */
+static double ring_writes(const accel_figures *f, accel_fifo_id r)
+{
+    switch (r) {
+    case ACCEL_FIFO_TRV_LOOP: return (double)f->trv_issue_loop;
+    case ACCEL_FIFO_IST_LOOP: return (double)f->ist_loops_miss + (double)f->ist_loops_blocked;
+    default: return 0;
+    }
+}
+
+/* The energy activity of the run so far, from its figures f
+ * (accel_top_figures) and the FIFOs' counts: every count the energy model
+ * prices, seconds of frame time, DRAM energy up to the DRAM port's
+ * statistics end (the current time until finish_stats sets it) and
+ * dram_bytes. The counts are whole numbers below 2^53, so their sums are
+ * exact in any order. */
+static void gather_activity(accel_top *t, const accel_figures *f, double seconds, double dram_bytes,
+                            energy_activity *out)
 {
     energy_model *em = t->energy;
     energy_activity a = {0};
-    char nm[64];
     a.seconds = seconds;
+    /* slab tests of all lanes, and one FLOP per comparator of each sort */
     double comparators = sort_net_get(t->p.width)->ncmps;
-    for (uint32_t i = 0; i < t->p.trv_count; i++) {
-        /* slab tests of all lanes, and one FLOP per comparator of each sort */
-        a.trv_flops += stat_need(t, "%s.flops", t->names[i]);
-        a.trv_flops += comparators * stat_need(t, "%s.sort_passes", t->names[i]);
-        a.stack_reads += stat_need(t, "%s.stack_pops", t->names[i]);
-        a.stack_writes += stat_need(t, "%s.stack_pushes", t->names[i]);
-        a.cache_reads[0] += stat_need(t, "node_l1_%u.accesses", i);
-        a.cache_writes[0] += stat_need(t, "node_l1_%u.fills", i);
-    }
-    /* the ray side's FIFOs; a ring is written once per ray that goes round
-     * it and read once when the ray comes back (accel_config.h) */
+    a.trv_flops = (double)f->trv_flops + comparators * (double)f->trv_sort_passes;
+    a.stack_reads = (double)f->trv_stack_pops;
+    a.stack_writes = (double)f->trv_stack_pushes;
+    /* the ray side's FIFOs: kernel FIFOs, or rings (accel_config.h) */
     for (int r = 0; r < ACCEL_FIFO_COUNT; r++) {
         const accel_fifo_desc *d = &accel_ray_fifos[r];
         int j = energy_fifo_index(&em->m, d->key);
-        for (uint32_t i = 0; j >= 0 && i < ray_fifo_instances(t, d); i++) {
-            if (!d->ring) {
-                add_fifo_activity(&a, j, t, accel_fifo_expand(d->name, i, nm, sizeof nm));
-                continue;
-            }
-            double writes = 0;
-            for (int k = 0; k < 2 && d->ring_writes[k]; k++)
-                writes += stat_need(t, "%s", accel_fifo_expand(d->ring_writes[k], i, nm, sizeof nm));
-            a.fifo_reads[j] += writes;
-            a.fifo_writes[j] += writes;
+        if (j < 0)
+            continue;
+        if (d->ring) {
+            a.fifo_reads[j] += ring_writes(f, (accel_fifo_id)r);
+            a.fifo_writes[j] += ring_writes(f, (accel_fifo_id)r);
+            continue;
         }
+        for (uint32_t i = 0; i < ray_fifo_instances(t, d); i++)
+            add_fifo_activity(&a, j, t->fifo[r][i]);
     }
-    a.ist_flops = stat_need(t, "ist.flops");
-    a.cache_reads[1] = stat_need(t, "node_l2.accesses");
-    a.cache_writes[1] = stat_need(t, "node_l2.fills");
-    a.cache_reads[2] = stat_need(t, "prim.accesses");
-    a.cache_writes[2] = stat_need(t, "prim.fills");
+    a.ist_flops = (double)f->ist_flops;
+    const accel_cache_figures *level[3] = {&f->node_l1, &f->node_l2, &f->prim};
+    for (int k = 0; k < 3; k++) {
+        a.cache_reads[k] = (double)level[k]->accesses;
+        a.cache_writes[k] = (double)level[k]->fills;
+    }
     for (int i = 0; i < memsys_fifo_count(t->mem); i++) {
         const char *key = NULL;
-        ks_fifo *f = memsys_fifo_at(t->mem, i, &key, NULL);
+        ks_fifo *ff = memsys_fifo_at(t->mem, i, &key, NULL);
         int j = energy_fifo_index(&em->m, key);
         if (j >= 0)
-            add_fifo_activity(&a, j, t, ks_fifo_name(f));
+            add_fifo_activity(&a, j, ff);
     }
-    if (em->m.dram_modeled) {
-        double total = stat_need(t, "dram.energy_uJ"), bg = stat_need(t, "dram.background_energy_uJ");
-        a.dram_dynamic_nj = (total - bg) * 1e3;
-        a.dram_static_nj = bg * 1e3;
+    if (f->dram_energy) {
+        a.dram_dynamic_nj = (f->dram_energy_uJ - f->dram_background_uJ) * 1e3;
+        a.dram_static_nj = f->dram_background_uJ * 1e3;
     }
     a.dram_bytes = dram_bytes;
     *out = a;
@@ -365,9 +414,11 @@ static void gather_activity(accel_top *t, double seconds, double dram_bytes, ene
 
 static void compute_energy(accel_top *t)
 {
+    accel_figures f;
     energy_activity a;
-    gather_activity(t, t->seconds, stat_named(t->stats, "dram_bytes"), &a);
-    energy_compute(t->energy, &a, stat_named(t->stats, "mrps"));
+    accel_top_figures(t, &f);
+    gather_activity(t, &f, t->seconds, (double)f.dram_bytes, &a);
+    energy_compute(t->energy, &a, f.mrps);
 }
 
 static const char *const traffic_stat_names[6] = {"dram_node_bytes",      "dram_triangle_bytes",
@@ -378,14 +429,16 @@ static const char *const traffic_stat_names[6] = {"dram_node_bytes",      "dram_
  * counts (input 0: node L2, 1: primitive cache). */
 static void traffic_stats(accel_top *t)
 {
-    const ks_stats *st = t->stats;
+    accel_figures f;
+    accel_top_figures(t, &f);
+    const mem_arbiter_input_stats *in = f.mem_arbiter;
     uint64_t *v = t->stat_traffic;
-    v[0] = (uint64_t)stat_named(st, "mem_arbiter.bytes_0");
-    v[1] = (uint64_t)stat_named(st, "mem_arbiter.bytes_1");
-    v[2] = (uint64_t)(stat_named(st, "mem_arbiter.footprint_bytes_0") + stat_named(st, "mem_arbiter.footprint_bytes_1"));
+    v[0] = in[0].bytes;
+    v[1] = in[1].bytes;
+    v[2] = in[0].footprint_bytes + in[1].footprint_bytes;
     v[3] = v[0] + v[1] > v[2] ? v[0] + v[1] - v[2] : 0;
-    v[4] = (uint64_t)(stat_named(st, "mem_arbiter.first_touch_0") + stat_named(st, "mem_arbiter.first_touch_1"));
-    v[5] = (uint64_t)(stat_named(st, "mem_arbiter.refetches_0") + stat_named(st, "mem_arbiter.refetches_1"));
+    v[4] = in[0].first_touch + in[1].first_touch;
+    v[5] = in[0].refetches + in[1].refetches;
 }
 
 static uint64_t ceil_div(uint64_t a, uint64_t b) { return b ? (a + b - 1) / b : 0; }
@@ -457,6 +510,11 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
         return NULL;
     }
     uint32_t ntrv = t->p.trv_count, slots = t->p.trv.core.slots;
+    if (ntrv > ACCEL_MAX_TRV) {   /* trv.count's range keeps it within */
+        snprintf(err, errlen, "trv.count = %u: at most %d TRVs", ntrv, ACCEL_MAX_TRV);
+        free(t);
+        return NULL;
+    }
     t->sim = ks_sim_create();
     t->stats = ks_stats_create();
     ks_time period = (ks_time)llround(1e6 / t->p.clock_mhz);
@@ -562,10 +620,10 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     rc |= sched_register(t->sched, "sched", t->stats, t->vcd);
     for (uint32_t i = 0; i < ntrv; i++) {
         rc |= trv_register(t->trv[i], t->names[i], t->stats, t->vcd);
-        rc |= register_util(t->stats, &trv_module_desc, t->names[i], &t->trv[i]->busy_cycles);
+        rc |= register_util(t, (int)i, &trv_module_desc, t->names[i], &t->trv[i]->busy_cycles);
     }
     rc |= ist_register(t->ist, "ist", t->stats, t->vcd);
-    rc |= register_util(t->stats, &ist_module_desc, "ist", &t->ist->busy_cycles);
+    rc |= register_util(t, (int)ntrv, &ist_module_desc, "ist", &t->ist->busy_cycles);
     if (rc) {
         snprintf(err, errlen, "statistics: %s", ks_stats_error(t->stats));
         goto fail;
@@ -578,17 +636,6 @@ accel_top *accel_top_create(const rtcfg *cfg, const accel_image *img, const acce
     if (rtcfg_bool(cfg, "energy.enabled") &&
         (!(t->energy = build_energy_model(t, cfg, err, errlen)) || energy_register_stats(t->energy, t->stats, err, errlen)))
         goto fail;
-    if (t->energy) {
-        /* every count the energy model prices must be a registered
-         * statistic: a renamed one would read as 0 energy */
-        energy_activity a;
-        gather_activity(t, 0, 0, &a);
-        if (t->missing_stat[0]) {
-            snprintf(err, errlen, "energy model: the statistic %s it prices is not registered by any unit",
-                     t->missing_stat);
-            goto fail;
-        }
-    }
     if (opts->series) {
         if (!(t->series_busy = calloc(ntrv, sizeof *t->series_busy))) {
             snprintf(err, errlen, "out of memory for the series");
@@ -680,8 +727,11 @@ static void series_sample(accel_top *t, uint64_t cycle)
         }
     }
     energy_activity act;
-    if (t->energy)
-        gather_activity(t, (double)cycle / (t->p.clock_mhz * 1e6), (double)p.dram_bytes, &act);
+    if (t->energy) {
+        accel_figures f;
+        accel_top_figures(t, &f);
+        gather_activity(t, &f, (double)cycle / (t->p.clock_mhz * 1e6), (double)p.dram_bytes, &act);
+    }
     accel_series_sample(t->series, &p, t->energy ? &act : NULL);
 }
 
@@ -730,8 +780,9 @@ static void finish_stats(accel_top *t, uint64_t stop_cycle)
         series_sample(t, t->cycles);   /* the last row ends with the frame */
     if (t->energy)
         compute_energy(t);
-    const double dram_mj = stat_named(t->stats, "energy.dram_mj");
-    t->stat_dram_pj_per_byte = t->stat_dram_bytes ? dram_mj * 1e9 / (double)t->stat_dram_bytes : 0.0;
+    accel_figures f;
+    accel_top_figures(t, &f);   /* DRAM energy 0 without an energy model */
+    t->stat_dram_pj_per_byte = t->stat_dram_bytes ? f.unit_mj[EU_DRAM] * 1e9 / (double)t->stat_dram_bytes : 0.0;
 }
 
 /* Appends one line per busy unit and its cache to err (watchdog report). */
@@ -870,11 +921,13 @@ int accel_top_run(accel_top *t, accel_progress_fn progress, void *user, char *er
     int rc = run_slices(t, progress, user, 0, &stopped, &now_cycle, err, errlen);
     finish_stats(t, rc ? now_cycle : 0);
     if (rc == 0 && t->sched->any_failed) {
+        accel_figures f;
+        accel_top_figures(t, &f);
         snprintf(err, errlen,
-                 "%.0f rays overflowed their %u-entry traversal stack: the stack is too small for this scene "
+                 "%llu rays overflowed their %u-entry traversal stack: the stack is too small for this scene "
                  "(raise trv.stack_depth, allowed 1..4096)",
-                 stat_named(t->stats, "sched.failed"), t->p.trv.core.stack_depth);
-        snprintf(t->failure, sizeof t->failure, "%.0f rays overflowed their stack", stat_named(t->stats, "sched.failed"));
+                 (unsigned long long)f.failed, t->p.trv.core.stack_depth);
+        snprintf(t->failure, sizeof t->failure, "%llu rays overflowed their stack", (unsigned long long)f.failed);
         rc = 1;
     }
     t->stat_failed = rc != 0 && !ks_interrupted();   /* interrupted: partial, not failed */
@@ -910,8 +963,11 @@ int accel_top_run_until(accel_top *t, uint64_t primaries, accel_point *p, char *
         p->backed_fills += cs->fills;
         p->backed_cold_fills += cs->fills - cs->evictions;
     }
-    if (t->energy)
-        gather_activity(t, (double)now_cycle / (t->p.clock_mhz * 1e6), p->dram_bytes, &p->act);
+    if (t->energy) {
+        accel_figures f;
+        accel_top_figures(t, &f);
+        gather_activity(t, &f, (double)now_cycle / (t->p.clock_mhz * 1e6), p->dram_bytes, &p->act);
+    }
     return 0;
 }
 
@@ -962,44 +1018,40 @@ void accel_top_print_summary(accel_top *t, FILE *out)
         fprintf(out, "guard       livelock guard engaged at cycle %llu: rays thrashed a node L1 and took turns from "
                      "then on (docs/accel.md)\n",
                 (unsigned long long)t->guard_cycle);
-    /* the figures from the statistics registry, as the JSON has them */
-    const ks_stats *st = t->stats;
-    double cycles = stat_named(st, "cycles"), hits = 0, accesses = 0;
+    /* the figures the registry has too (accel_figures names each one's
+     * statistic), so the summary and the JSON agree */
+    accel_figures f;
+    accel_top_figures(t, &f);
+    double cycles = (double)f.cycles;
     fprintf(out, "cycles      %.0f\n", cycles);
-    fprintf(out, "rays        %.0f (%.0f primary, %.0f bounce)\n", stat_named(st, "rays"),
-            stat_named(st, "sched.primaries"), stat_named(st, "sched.bounces"));
-    double occlusion_rays;
-    if (ks_stats_value(st, "sched.occlusion_rays", &occlusion_rays) == 0)   /* registered in occlusion runs only */
-        fprintf(out, "occlusion   %.0f rays, %.0f occluded\n", occlusion_rays, stat_named(st, "sched.occluded"));
-    fprintf(out, "MRPS        %.2f at %.0f MHz\n", stat_named(st, "mrps"), t->p.clock_mhz);
-    fprintf(out, "in flight   %.1f rays mean, %.0f max; latency %.0f cycles mean\n", stat_named(st, "rays_in_flight_mean"),
-            stat_named(st, "sched.max_in_flight"), stat_named(st, "sched.latency_mean"));
+    fprintf(out, "rays        %.0f (%.0f primary, %.0f bounce)\n", (double)f.rays, (double)f.primaries,
+            (double)f.bounces);
+    if (f.occlusion)
+        fprintf(out, "occlusion   %.0f rays, %.0f occluded\n", (double)f.occlusion_rays, (double)f.occluded);
+    fprintf(out, "MRPS        %.2f at %.0f MHz\n", f.mrps, t->p.clock_mhz);
+    fprintf(out, "in flight   %.1f rays mean, %.0f max; latency %.0f cycles mean\n", f.in_flight_mean,
+            (double)f.max_in_flight, f.latency_mean);
     fprintf(out, "utilization");
-    for (uint32_t i = 0; i < t->p.trv_count; i++)
-        fprintf(out, " trv%u %.1f%%", i, percent(stat_named(st, "%s.busy_cycles", t->names[i]), cycles));
-    fprintf(out, " ist %.1f%%\n", percent(stat_named(st, "ist.busy_cycles"), cycles));
-    for (uint32_t i = 0; i < t->p.trv_count; i++) {
-        hits += stat_named(st, "node_l1_%u.hits", i);
-        accesses += stat_named(st, "node_l1_%u.accesses", i);
-    }
-    fprintf(out, "caches      node L1 %.2f%% hits (%.0f accesses)", percent(hits, accesses), accesses);
-    accesses = stat_named(st, "node_l2.accesses");
-    fprintf(out, ", node L2 %.2f%% (%.0f)", percent(stat_named(st, "node_l2.hits"), accesses), accesses);
-    accesses = stat_named(st, "prim.accesses");
-    fprintf(out, ", prim %.2f%% (%.0f)\n", percent(stat_named(st, "prim.hits"), accesses), accesses);
-    fprintf(out, "DRAM        %.2f MB, %.2f GB/s (%s memory)\n", stat_named(st, "dram_bytes") / 1e6,
-            stat_named(st, "dram_bandwidth_gbs"), memsys_memory_model(t->mem) == MEMSYS_LPDDR3 ? "LPDDR3" : "fixed-latency");
-    double row_hits;
-    const bool lpddr3 = ks_stats_value(st, "dram.row_hit_rate", &row_hits) == 0;
+    for (uint32_t i = 0; i < f.trv_count; i++)
+        fprintf(out, " trv%u %.1f%%", i, percent((double)f.trv_busy_cycles[i], cycles));
+    fprintf(out, " ist %.1f%%\n", percent((double)f.ist_busy_cycles, cycles));
+    const accel_cache_figures *c = &f.node_l1;
+    fprintf(out, "caches      node L1 %.2f%% hits (%.0f accesses)", percent((double)c->hits, (double)c->accesses),
+            (double)c->accesses);
+    c = &f.node_l2;
+    fprintf(out, ", node L2 %.2f%% (%.0f)", percent((double)c->hits, (double)c->accesses), (double)c->accesses);
+    c = &f.prim;
+    fprintf(out, ", prim %.2f%% (%.0f)\n", percent((double)c->hits, (double)c->accesses), (double)c->accesses);
+    fprintf(out, "DRAM        %.2f MB, %.2f GB/s (%s memory)\n", (double)f.dram_bytes / 1e6, f.dram_gbs,
+            memsys_memory_model(t->mem) == MEMSYS_LPDDR3 ? "LPDDR3" : "fixed-latency");
     fprintf(out, "traffic     nodes %.2f MB, triangles %.2f MB; footprint %.2f MB, refetched %.2f MB (%.0f first-touch "
                  "fills, %.0f refetches)",
-            stat_named(st, "dram_node_bytes") / 1e6, stat_named(st, "dram_triangle_bytes") / 1e6,
-            stat_named(st, "dram_footprint_bytes") / 1e6, stat_named(st, "dram_refetch_bytes") / 1e6,
-            stat_named(st, "dram_compulsory_misses"), stat_named(st, "dram_refetch_misses"));
-    if (lpddr3)
-        fprintf(out, "; row hits %.1f%%", 100.0 * row_hits);
+            (double)f.dram_node_bytes / 1e6, (double)f.dram_triangle_bytes / 1e6, (double)f.dram_footprint_bytes / 1e6,
+            (double)f.dram_refetch_bytes / 1e6, (double)f.dram_compulsory_misses, (double)f.dram_refetch_misses);
+    if (f.lpddr3)
+        fprintf(out, "; row hits %.1f%%", 100.0 * f.row_hit_rate);
     if (t->energy)
-        fprintf(out, "; %.0f pJ/B", stat_named(st, "dram_pj_per_byte"));
+        fprintf(out, "; %.0f pJ/B", f.dram_pj_per_byte);
     fprintf(out, "\n");
     if (t->energy)
         energy_print_summary(t->energy, out);

@@ -31,6 +31,7 @@
 #include "kernel/stats.h"
 #include "model/accel_config.h"
 #include "model/energy/energy.h"
+#include "model/mem/mem_arbiter.h"
 #include "model/ray/accel_ray.h"
 #include "config/config.h"
 #include "model/ray/scheduler.h"
@@ -65,6 +66,74 @@ uint64_t accel_top_cycles(const accel_top *t);     /* cycles of the frame (to th
 uint64_t accel_top_rays(const accel_top *t);       /* rays completed */
 double accel_top_mrps(const accel_top *t);         /* rays / simulated second / 1e6 at the machine clock */
 ks_stats *accel_top_stats(accel_top *t);           /* every statistic */
+
+/* The most TRVs a machine has (trv.count's range, model/ray/trv.c). */
+enum { ACCEL_MAX_TRV = 64 };
+
+/* Accesses, hits and line fills of a cache level (the cache's statistics
+ * of those names). */
+typedef struct accel_cache_figures {
+    uint64_t accesses, hits, fills;
+} accel_cache_figures;
+
+/* The figures of a run, typed: each is read from the field of the unit
+ * that counts it, the field its statistic in the registry references (the
+ * statistic's name in brackets), so a renamed field fails to compile
+ * instead of reading as 0. The units' counts are live (so far into the
+ * run); the frame's figures (top level) are set when the run ends, the
+ * energy figures when it was last computed. The energy adapter, the
+ * summary and the fidelity levels (fidelity/model_run.c) read these. */
+typedef struct accel_figures {
+    /* top level (accel_top.c), the frame */
+    uint64_t cycles;               /* [cycles] cycles of the frame */
+    uint64_t rays;                 /* [rays] rays completed */
+    double mrps;                   /* [mrps] million rays per second at the machine clock */
+    uint64_t dram_bytes;           /* [dram_bytes] main memory bytes of the frame */
+    double dram_gbs;               /* [dram_bandwidth_gbs] mean main memory bandwidth, GB/s */
+    double in_flight_mean;         /* [rays_in_flight_mean] time-averaged rays in flight */
+    uint64_t dram_node_bytes, dram_triangle_bytes;   /* [dram_node_bytes, dram_triangle_bytes] by kind */
+    uint64_t dram_footprint_bytes, dram_refetch_bytes; /* [dram_footprint_bytes, dram_refetch_bytes] by cause */
+    uint64_t dram_compulsory_misses, dram_refetch_misses; /* [dram_compulsory_misses, dram_refetch_misses] fills */
+    double dram_pj_per_byte;       /* [dram_pj_per_byte] DRAM energy per byte, pJ */
+    /* scheduler (model/ray/scheduler.h) */
+    uint64_t primaries, bounces;   /* [sched.primaries, sched.bounces] rays taken of each kind */
+    uint64_t failed;               /* [sched.failed] rays whose traversal stack overflowed */
+    bool occlusion;                /* an occlusion run: the two figures below are registered */
+    uint64_t occlusion_rays, occluded; /* [sched.occlusion_rays, sched.occluded] */
+    uint64_t max_in_flight;        /* [sched.max_in_flight] most rays in flight at once */
+    double latency_mean;           /* [sched.latency_mean] mean ray latency, cycles */
+    /* TRVs (model/ray/trv.h): per unit, then summed over the units */
+    uint32_t trv_count;
+    uint64_t trv_busy_cycles[ACCEL_MAX_TRV]; /* [trvI.busy_cycles] cycles TRV I issued */
+    uint64_t trv_flops;            /* [trvI.flops] slab-test FLOPs */
+    uint64_t trv_sort_passes;      /* [trvI.sort_passes] passes through the sorting network */
+    uint64_t trv_stack_pops, trv_stack_pushes; /* [trvI.stack_pops, trvI.stack_pushes] stack accesses */
+    uint64_t trv_issue_loop;       /* [trvI.issue_loop] rays issued from the loop ring (its writes) */
+    /* IST (model/ray/ist.h) */
+    uint64_t ist_busy_cycles;      /* [ist.busy_cycles] cycles the IST issued */
+    uint64_t ist_flops;            /* [ist.flops] triangle-test FLOPs */
+    uint64_t ist_loops_miss, ist_loops_blocked; /* [ist.loops_miss, ist.loops_blocked] rays sent round its ring */
+    /* caches (model/mem/cache_core.h): the node L1s summed, node L2, primitive cache */
+    accel_cache_figures node_l1, node_l2, prim; /* [node_l1_I.*, node_l2.*, prim.*] */
+    /* the memory arbiter (model/mem/mem_arbiter.h), input 0 the node L2, 1 the primitive cache */
+    mem_arbiter_input_stats mem_arbiter[2]; /* [mem_arbiter.bytes_I, footprint_bytes_I, first_touch_I, refetches_I] */
+    /* the memory (model/mem/fixed_mem.h or mem_dram_adapter.h) */
+    uint64_t mem_requests;         /* [memory.requests] requests that reached the memory */
+    uint64_t mem_latency_sum;      /* [memory.latency_sum] their summed latencies, cycles */
+    bool lpddr3;                   /* the LPDDR3 model: row_hit_rate is registered */
+    double row_hit_rate;           /* [dram.row_hit_rate] row hits / row accesses (model/dram/dram_port.h) */
+    bool dram_energy;              /* the energy model prices the LPDDR3 power: the two below are set */
+    double dram_energy_uJ, dram_background_uJ; /* [dram.energy_uJ, dram.background_energy_uJ] */
+    /* energy (model/energy/energy.h), with an energy model */
+    bool energy;
+    double energy_mj;              /* [energy_mj] energy of the frame, mJ */
+    double unit_mj[EU_COUNT];      /* [energy.U_mj] per unit (energy.h order), mJ */
+    double unit_dynamic_mj[EU_COUNT], unit_static_mj[EU_COUNT]; /* [energy.U_dynamic_mj, energy.U_static_mj] */
+} accel_figures;
+
+/* Fills *out with the run's figures so far (every field; those a machine
+ * does not have are 0 and their flags false). */
+void accel_top_figures(const accel_top *t, accel_figures *out);
 
 /* A point of a run, for interval sampling (fidelity/windowed.c): counts from
  * the start of the run to `cycle`. */

@@ -282,20 +282,47 @@ void dram_port_sync(dram_port *p)
 
 void dram_port_set_stats_end(dram_port *p, ks_time t) { p->stats_end = t; }
 
+double dram_port_row_hit_rate(dram_port *p)
+{
+    dram_port_sync(p);
+    uint64_t hits = 0, all = 0;
+    for (int i = 0; i < p->spec->channels; i++) {
+        dram_chan_stats st;
+        dram_chan_stats_get(p->c, i, &st);
+        hits += st.row_hits;
+        all += st.row_hits + st.row_misses + st.row_conflicts;
+    }
+    return all ? (double)hits / (double)all : 0.0;
+}
+
+void dram_port_energy_uJ(dram_port *p, double *total, double *background)
+{
+    dram_port_sync(p);
+    dram_summary s;
+    dram_summary_compute(p->c, p->power, &s);
+    *total = s.energy_uJ;
+    *background = (s.energy.act_stby_pJ + s.energy.pre_stby_pJ) / 1e6;
+}
+
 static double port_stat(const ks_stats *reg, void *user)
 {
     (void)reg;
     const port_stat_ref *r = user;
     dram_port *p = r->p;
+    double total, background;
+    switch (r->which) {   /* the figures the accelerator's top level reads too */
+    case PS_ROW_HIT_RATE: return dram_port_row_hit_rate(p);
+    case PS_ENERGY_UJ: dram_port_energy_uJ(p, &total, &background); return total;
+    case PS_BACKGROUND_UJ: dram_port_energy_uJ(p, &total, &background); return background;
+    default: break;
+    }
     dram_port_sync(p);
-    uint64_t cmd[DRAM_NCMD] = {0}, hits = 0, all = 0, lat = 0, nlat = 0;
+    uint64_t cmd[DRAM_NCMD] = {0}, lat = 0, nlat = 0;
     for (int i = 0; i < p->spec->channels; i++) {
         dram_chan_stats st;
         dram_chan_stats_get(p->c, i, &st);
         for (int k = 0; k < DRAM_NCMD; k++)
             cmd[k] += st.n_cmd[k];
-        hits += st.row_hits;
-        all += st.row_hits + st.row_misses + st.row_conflicts;
         lat += st.read_latency_sum;
         nlat += st.reads_done;
     }
@@ -307,18 +334,7 @@ static double port_stat(const ks_stats *reg, void *user)
     case PS_CMD_REF: return (double)cmd[DRAM_REF];
     case PS_CMD_RD: return (double)cmd[DRAM_RD];
     case PS_CMD_WR: return (double)cmd[DRAM_WR];
-    case PS_ROW_HIT_RATE: return all ? (double)hits / (double)all : 0.0;
     case PS_BURST_READ_LAT: return nlat ? (double)lat / (double)nlat : 0.0;
-    case PS_ENERGY_UJ: {
-        dram_summary s;
-        dram_summary_compute(p->c, p->power, &s);
-        return s.energy_uJ;
-    }
-    case PS_BACKGROUND_UJ: {
-        dram_summary s;
-        dram_summary_compute(p->c, p->power, &s);
-        return (s.energy.act_stby_pJ + s.energy.pre_stby_pJ) / 1e6;
-    }
     default: return 0.0;
     }
 }

@@ -80,6 +80,14 @@ void dram_port_sync(dram_port *p);
  * read, so they do not depend on how long the simulation went on idling
  * (with --exhaustive the DRAM clock may tick once more after the frame). */
 void dram_port_set_stats_end(dram_port *p, ks_time t);
+/* Row hits / (hits + misses + conflicts) over every channel so far, 0
+ * before any row access (the statistic row_hit_rate). */
+double dram_port_row_hit_rate(dram_port *p);
+/* The DRAM energy so far, DRAMPower method, in uJ: *total, and the part of
+ * it spent in active and precharge standby, *background (the statistics
+ * energy_uJ and background_energy_uJ). Only with a power spec. Both catch
+ * the controller up first, as dram_port_sync. */
+void dram_port_energy_uJ(dram_port *p, double *total, double *background);
 /* Forwards every issued command (e.g. to a timing checker), in issue order. */
 void dram_port_set_cmd_sink(dram_port *p, dram_cmd_fn fn, void *user);
 /* The producer will send no more requests: once the request FIFO is empty, queued

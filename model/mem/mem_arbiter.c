@@ -229,6 +229,15 @@ uint64_t mem_arbiter_grants(const mem_arbiter *a, int input)
     return input < 0 ? a->grants : input < a->n ? a->grants_per[input] : 0;
 }
 
+void mem_arbiter_input(const mem_arbiter *a, int input, mem_arbiter_input_stats *out)
+{
+    assert(input >= 0 && input < a->n);
+    out->bytes = a->bytes_per[input];
+    out->footprint_bytes = a->footprint_per[input];
+    out->first_touch = a->first_touch_per[input];
+    out->refetches = a->refetch_per[input];
+}
+
 int mem_arbiter_busy(const mem_arbiter *a)
 {
     (void)a;

@@ -43,6 +43,12 @@ void mem_arbiter_connect(mem_arbiter *a, ks_fifo *const *req_in, ks_fifo *const 
 void mem_arbiter_destroy(mem_arbiter *a);
 int mem_arbiter_register(mem_arbiter *a, ks_stats *reg, const char *prefix);
 uint64_t mem_arbiter_grants(const mem_arbiter *a, int input);
+/* The per-input statistics of input i (0 .. n-1), as registered:
+ * bytes_<i>, footprint_bytes_<i>, first_touch_<i>, refetches_<i>. */
+typedef struct mem_arbiter_input_stats {
+    uint64_t bytes, footprint_bytes, first_touch, refetches;
+} mem_arbiter_input_stats;
+void mem_arbiter_input(const mem_arbiter *a, int input, mem_arbiter_input_stats *out);
 int mem_arbiter_busy(const mem_arbiter *a);
 void mem_arbiter_describe(const mem_arbiter *a, char *buf, size_t len);
 

@@ -267,6 +267,7 @@ uint64_t memsys_memory_latency_sum(const memsys *ms)
 {
     return ms->fmem ? fixed_mem_latency_sum(ms->fmem) : ms->adapter ? mem_dram_adapter_latency_sum(ms->adapter) : 0;
 }
+const mem_arbiter *memsys_mem_arbiter(const memsys *ms) { return ms->mem_arb; }
 dram_port *memsys_dram_port(memsys *ms) { return ms->port; }
 const dram_spec *memsys_dram_spec(const memsys *ms) { return ms->spec; }
 

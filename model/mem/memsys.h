@@ -64,6 +64,10 @@ uint64_t memsys_memory_bytes(const memsys *ms);
 uint64_t memsys_memory_requests(const memsys *ms);
 /* Sum over requests of the cycles from reaching the memory to the response. */
 uint64_t memsys_memory_latency_sum(const memsys *ms);
+/* The arbiter in front of the memory (statistics "mem_arbiter.*"): input 0
+ * the node L2, input 1 the primitive cache. */
+struct mem_arbiter;
+const struct mem_arbiter *memsys_mem_arbiter(const memsys *ms);
 /* The LPDDR3 port (statistics "dram.*", its own 800 MHz clock), NULL when fixed. */
 struct dram_port *memsys_dram_port(memsys *ms);
 /* The LPDDR3 spec in use (NULL with the fixed memory). */

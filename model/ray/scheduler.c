@@ -116,11 +116,15 @@ void sched_connect(sched_unit *s, ks_fifo **to_trv, ks_fifo **from_trv)
     }
 }
 
+double sched_latency_mean(const sched_unit *s)
+{
+    return s->completed ? (double)s->latency_sum / (double)s->completed : 0.0;
+}
+
 static double latency_mean(const ks_stats *reg, void *user)
 {
     (void)reg;
-    const sched_unit *s = user;
-    return s->completed ? (double)s->latency_sum / (double)s->completed : 0.0;
+    return sched_latency_mean(user);
 }
 
 static double in_flight_mean(const ks_stats *reg, void *user)

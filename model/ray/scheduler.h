@@ -96,6 +96,8 @@ int sched_register(sched_unit *s, const char *name, ks_stats *st, ks_vcd *vcd);
 bool sched_finished(const sched_unit *s);
 /* Mean rays in flight up to cycle `now`. */
 double sched_mean_in_flight(const sched_unit *s, uint64_t now);
+/* Mean latency of the rays completed so far, cycles (0 before the first). */
+double sched_latency_mean(const sched_unit *s);
 void sched_destroy(sched_unit *s);   /* NULL is a no-op */
 
 #endif

@@ -10,7 +10,7 @@ DIR is a scripts/sweep folder whose points ran at --fidelity windowed. Each
 point's change against its group's baseline and the change's 95% half-width
 are scripts/paired.py's. A point is rerun at full when the half-width of
 any figure's change (MRPS, DRAM MB, mJ/frame) exceeds P percentage points or
-the change is flagged (either point unreliable); its group's baseline is
+the change is flagged (either point unreliable, or its run failed); its group's baseline is
 then rerun too, once. The reruns are a sweep of their own in DIR/full (the
 same points, the arguments after `--` without --fidelity, --windows,
 --sample-rate and --jobs), run by scripts/sweep like any other, so an
@@ -71,7 +71,7 @@ def decide(d, p):
         b = base.get(pt[0])
         if b is None or b[0][0] == pt[0]:
             continue
-        if j.get("unreliable") or b[1].get("unreliable"):
+        if j.get("unreliable") or b[1].get("unreliable") or j.get("run_failed") or b[1].get("run_failed"):
             why[pt[0]] = "flagged"
             continue
         over = []

@@ -135,19 +135,16 @@ def parse_baseline(text):
     return out
 
 
-def write_paired(d, baseline=None, against=None):
-    """Writes DIR/paired.csv; returns its path and the rows (dicts)."""
-    header, res = load(d)
+def groups(header, res, baseline=None):
+    """The baseline (jobs.tsv row, JSON) of each point's group: {point name:
+    (row, JSON)}; points whose group has no baseline (--baseline matches none
+    of it) are left out."""
     grid = header[6:-1]
     col = {n: i for i, n in enumerate(header)}
     want = parse_baseline(baseline)
     for k in want:
         if k not in col or k in ("name", "scene", "rays", "res", "set", "args"):
             die("--baseline %s: allowed keys machine%s" % (k, "".join(", " + g for g in grid)))
-    full = {}
-    if against:
-        _, fres = load(against)
-        full = {tuple(p[1:-1]): j for p, j in fres}   # args (the fidelity) left out
     # a group shares scene, rays, resolution and fixed arguments, and (with
     # --baseline) the machine and swept keys --baseline does not name: with
     # --baseline node_l1.size=8192 each machine gets its own baseline
@@ -159,6 +156,19 @@ def write_paired(d, baseline=None, against=None):
         match = all(p[col[k]] == v for k, v in want.items())
         if g not in base and (match if want else True):
             base[g] = (p, j)
+    return {p[0]: base[group(p)] for p, _ in res if group(p) in base}
+
+
+def write_paired(d, baseline=None, against=None):
+    """Writes DIR/paired.csv; returns its path and the rows (dicts)."""
+    header, res = load(d)
+    grid = header[6:-1]
+    col = {n: i for i, n in enumerate(header)}
+    base = groups(header, res, baseline)
+    full = {}
+    if against:
+        _, fres = load(against)
+        full = {tuple(p[1:-1]): j for p, j in fres}   # args (the fidelity) left out
     out = io.StringIO()
     w = csv.writer(out, lineterminator="\n")
     cols = ["point", "scene", "rays", "machine", "res"] + grid + ["baseline", "fidelity", "unreliable"]
@@ -169,13 +179,13 @@ def write_paired(d, baseline=None, against=None):
     w.writerow(cols)
     rows = []
     for p, j in res:
-        b = base.get(group(p))
+        b = base.get(p[0])
         if b is None:
             continue
         # a change is as reliable as its less reliable point
         flagged = int(bool(j.get("unreliable")) or bool(b[1].get("unreliable")))
         row = [p[0], p[1], p[2], p[3], p[4]] + [p[col[g]] for g in grid] + [b[0][0], j.get("fidelity", "full"), flagged]
-        rec = {"point": p[0], "baseline": b[0][0]}
+        rec = {"point": p[0], "baseline": b[0][0], "unreliable": flagged}
         for fig in FIGS:
             c, key, _ = fig
             ch, err, paired = change(b[1], j, fig)

@@ -4,9 +4,11 @@
 # missing, root only). A sweep submitted as a job array plus a dependent merge
 # job merges into the same CSV as the local GNU parallel run; a resubmission
 # after losing two results runs exactly those two (sbatch --wait) and merges
-# the same CSV again. SKIPs, saying why, when no cluster can be had. It runs in
-# the release variant only (the Slurm path is scripts, the same under ASan).
-# Cost: ~7 s to start the cluster (+ the first apt-get install), ~30 s of jobs.
+# the same CSV again; --accuracy-change with --slurm --wait runs its two
+# arrays and writes the local run's changes.csv. SKIPs, saying why, when no
+# cluster can be had. It runs in the release variant only (the Slurm path is
+# scripts, the same under ASan). Cost: ~7 s to start the cluster (+ the first
+# apt-get install), ~45 s of jobs.
 set -u
 bin=${RTSIM_BIN:?}/rtsim
 tmp=${RTSIM_TMP:-/tmp}/tb_sweep_slurm
@@ -82,4 +84,17 @@ check sweep_slurm_wait_exit_0 test $rc -eq 0
 check sweep_slurm_resume_two_to_run grep -q "4 points in .*, 2 to run" <<< "$out"
 check sweep_slurm_resume_array_of_two grep -qx '#SBATCH --array=1-2' "$tmp/cluster/sweep.sbatch"
 check sweep_slurm_resume_csv_equals_local cmp "$tmp/cluster/results.csv" "$tmp/local/results.csv"
+
+# --accuracy-change with --slurm --wait: the windowed array, then an array of
+# the points to rerun at full (all of them at 0.001pt), and the same
+# changes.csv as the local run (tb_sweep_accuracy_change.sh tests the rule).
+acc=(--set-grid node_l1.size=4096,65536 --scenes interior --rays diffuse --machines mbvh4 --res 640x360
+     --set node_l2.size=32K --set prim.size=32K --rtsim "$bin" --accuracy-change 0.001pt --
+     --bounces 1 --sample-rate 0.3 --jobs 1)
+"$sweep" --jobs 1 --out "$tmp/acc-local" "${acc[@]}" > "$tmp/acc-local.out" 2>&1
+out=$("$sweep" --out "$tmp/acc-cluster" --slurm --wait "${acc[@]}" 2>&1); rc=$?
+check sweep_slurm_accuracy_change_exit_0 test $rc -eq 0
+check sweep_slurm_accuracy_change_two_arrays test "$(grep -c '^sweep: submitting .*sweep.sbatch and waiting' <<< "$out")" -eq 2
+check sweep_slurm_accuracy_change_reruns grep -q "0 points passed at windowed, 2 rerun at full" <<< "$out"
+check sweep_slurm_accuracy_change_csv_equals_local cmp "$tmp/acc-cluster/changes.csv" "$tmp/acc-local/changes.csv"
 [ $started = 0 ] || echo "# stopped the cluster this test started" >&2

@@ -50,14 +50,20 @@ void fid_lv_windowed_outcome(const fid_job *job, const fid_windowed *wd, fid_out
     w->cold_share = wd->cold_share;
     w->paired_windows = wd->resid && wd->windows <= FID_PAIRED_MAX_WINDOWS ? wd->windows : 0;
     w->t95 = wd->t95;
+    w->lattice_groups = wd->lat_resid && w->paired_windows ? FID_LAT_GROUPS : 0;
+    w->start_windows = wd->start_windows;
     for (int k = 0; k < FID_WIN_HEADLINE; k++) {
         /* the rays' lattice error is left out: the same pixels give every
          * machine the same rays, so it cancels in a change */
         double lat = wd->lattice_err[k];
         w->other_err[k] = 100.0 * sqrt(wd->start_err[k] * wd->start_err[k] + lat * lat);
         w->bias_err[k] = 100.0 * bias[k];
-        for (uint64_t q = 0; q < w->paired_windows; q++)
+        for (uint64_t q = 0; q < w->paired_windows; q++) {
             w->resid[k][q] = wd->resid[(size_t)k * wd->windows + q];
+            w->start_resid[k][q] = wd->start_resid ? wd->start_resid[(size_t)k * wd->windows + q] : 0;
+        }
+        for (int g = 0; g < FID_LAT_GROUPS; g++)
+            w->lat_resid[k][g] = wd->lat_resid ? wd->lat_resid[(size_t)k * FID_LAT_GROUPS + g] : 0;
     }
     w->primaries = (uint64_t)wd->primaries;
     w->rays = (uint64_t)llround(wd->rays);

@@ -100,6 +100,12 @@ typedef struct fid_own {
     double resid[FID_WIN_HEADLINE][FID_PAIRED_MAX_WINDOWS];
     double other_err[FID_WIN_HEADLINE], bias_err[FID_WIN_HEADLINE], t95;
     uint64_t paired_windows;
+    /* the random errors beside the windows' as residuals that pair too
+     * (windowed.h lat_resid, start_resid): the lattice's groups, and each
+     * window's start excess (image order); start_windows: the windows
+     * with a warm-up */
+    double lat_resid[FID_WIN_HEADLINE][FID_LAT_GROUPS], start_resid[FID_WIN_HEADLINE][FID_PAIRED_MAX_WINDOWS];
+    uint64_t lattice_groups, start_windows;
     const char *bound;
     bool has_func, is_sampled, is_windowed, has_units;
 } fid_own;

@@ -73,6 +73,12 @@ int fid_own_stats(fid_outcome *o)
         rc |= ks_stat_counter_ref(st, "window.paired_windows", "windows",
                                   "windows whose residuals follow (0: too many to list)", &w->paired_windows);
         rc |= ks_stat_real_ref(st, "window.t95", "ratio", "Student t of the windows' 95% interval", &w->t95);
+        rc |= ks_stat_counter_ref(st, "window.lattice_groups", "groups",
+                                  "interleaved groups of the lattice's pixels whose residuals follow (0: none)",
+                                  &w->lattice_groups);
+        rc |= ks_stat_counter_ref(st, "window.start_windows", "windows",
+                                  "windows with a warm-up: their start excesses make the start correction",
+                                  &w->start_windows);
         for (int k = 0; k < FID_WIN_HEADLINE; k++) {
             char key[96], desc[200];
             snprintf(key, sizeof key, "window.other_err.%s", fig[k]);
@@ -89,6 +95,20 @@ int fid_own_stats(fid_outcome *o)
                          "the frame's figure",
                          (unsigned long long)q, k == FID_WIN_CYCLES ? "the cycles" : fig[k]);
                 rc |= ks_stat_real_ref(st, key, "ratio", desc, &w->resid[k][q]);
+                snprintf(key, sizeof key, "window.start_resid.%s.%llu", fig[k], (unsigned long long)q);
+                snprintf(desc, sizeof desc,
+                         "window %llu (image order): its start excess of %s less the mean, relative to the frame's "
+                         "figure, scaled so the squares sum to the start correction's variance",
+                         (unsigned long long)q, k == FID_WIN_CYCLES ? "the cycles" : fig[k]);
+                rc |= ks_stat_real_ref(st, key, "ratio", desc, &w->start_resid[k][q]);
+            }
+            for (uint64_t g = 0; g < w->lattice_groups; g++) {
+                snprintf(key, sizeof key, "window.lat_resid.%s.%llu", fig[k], (unsigned long long)g);
+                snprintf(desc, sizeof desc,
+                         "lattice group %llu: its estimate of %s less the groups' mean, relative to the frame's "
+                         "figure, scaled so the squares sum to the lattice's variance",
+                         (unsigned long long)g, k == FID_WIN_CYCLES ? "the cycles" : fig[k]);
+                rc |= ks_stat_real_ref(st, key, "ratio", desc, &w->lat_resid[k][g]);
             }
         }
     }

@@ -104,6 +104,7 @@ typedef struct win_piece {
  * through the functional level. */
 typedef struct win_lattice {
     double n, x[FID_AUX_COUNT], xx[FID_AUX_COUNT][FID_AUX_COUNT], r, r2;
+    double gn[FID_LAT_GROUPS], gx[FID_LAT_GROUPS][FID_AUX_COUNT];   /* per interleaved group (windowed.h) */
     double *cum;                  /* cum[p]: DRAM lines of the lattice's pixels before pixel p */
     uint32_t *ncum;               /* ncum[p]: lattice pixels before pixel p */
     fid_func_snap *snaps;         /* nsnap of them, ascending in `at` */
@@ -223,6 +224,10 @@ static int run_lattice(const win_plan *pl, win_lattice *lat, char *err, size_t e
         const float *a = attr[k++];
         double x[FID_AUX_COUNT] = {a[FID_ATTR_PRIMARY], a[FID_ATTR_BOUNCE], a[FID_ATTR_DRAM_LINES]}, rays = a[FID_ATTR_RAYS];
         lat->cum[p + 1] += x[FID_AUX_DRAM_LINES], lat->ncum[p + 1] += 1;
+        uint32_t g = (uint32_t)((k - 1) % FID_LAT_GROUPS);   /* k: this pixel's index + 1 */
+        lat->gn[g] += 1;
+        for (int i = 0; i < FID_AUX_COUNT; i++)
+            lat->gx[g][i] += x[i];
         lat->n += 1, lat->r += rays, lat->r2 += rays * rays;
         for (int i = 0; i < FID_AUX_COUNT; i++) {
             lat->x[i] += x[i];
@@ -376,7 +381,9 @@ void fid_windowed_free(fid_windowed *w)
         free(w->runs->lat.snap_of);
     }
     free(w->resid);
-    w->resid = NULL;
+    free(w->lat_resid);
+    free(w->start_resid);
+    w->resid = w->lat_resid = w->start_resid = NULL;
     free(w->runs);
     w->runs = NULL;
 }
@@ -590,6 +597,39 @@ int fid_windowed_more(const fid_job *job, uint32_t windows, fid_windowed *out, c
 }
 
 /* The frame's figures and their errors from the windows run so far. */
+/* The start correction's and the lattice's errors of headline figure k as
+ * residuals that pair across machines (windowed.h lat_resid, start_resid):
+ * the same windows and the same lattice pixels give every machine of a
+ * sweep the same sampling, so in a change between two machines these
+ * errors largely cancel, as the windows' do. Each set's sum of squares is
+ * the variance of its part of the figure (relative): the start
+ * correction is the mean of cn windows' excesses; the lattice's part is the
+ * mean of FID_LAT_GROUPS interleaved groups' estimates (replicated
+ * sampling: the groups' spread stands for the lattice's). */
+static void pairing_residuals(const win_lattice *lat, const double beta[FID_AUX_COUNT],
+                              const double (*xs)[FID_AUX_COUNT], const win_piece *pc, const uint32_t *order, uint32_t M,
+                              double cbar, double cn, double fpc, double N, double e, int k, fid_windowed *out)
+{
+    double norm = cn > 1 ? 1.0 / (e * sqrt(cn * (cn - 1))) : 0;
+    for (uint32_t q = 0; q < M; q++) {
+        const win_piece *w = &pc[order[q]];
+        out->start_resid[(size_t)k * M + q] =
+            w->a.primaries ? (window_fig(w, k, true) - fid_dot(beta, xs[order[q]]) - cbar) * norm : 0;
+    }
+    out->start_windows = (uint32_t)cn;
+    double T[FID_LAT_GROUPS], mean = 0;
+    int G = 0;
+    for (int g = 0; g < FID_LAT_GROUPS; g++)
+        if (lat->gn[g] > 0) {
+            T[g] = N / lat->gn[g] * fid_dot(beta, lat->gx[g]);
+            mean += T[g], G++;
+        }
+    mean = G ? mean / G : 0;
+    double gnorm = G > 1 && G == FID_LAT_GROUPS ? sqrt(fpc) / (e * sqrt((double)G * (G - 1))) : 0;
+    for (int g = 0; g < FID_LAT_GROUPS; g++)
+        out->lat_resid[(size_t)k * FID_LAT_GROUPS + g] = gnorm > 0 ? (T[g] - mean) * gnorm : 0;
+}
+
 static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windowed *out)
 {
     const win_plan pl = r->pl;
@@ -662,7 +702,12 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
     double t = fid_t95((int)npairs), f = fmin(1.0, prim / N);
     double *res = malloc((size_t)(M ? M : 1) * sizeof *res);
     free(out->resid);
+    free(out->lat_resid);
+    free(out->start_resid);
     out->resid = malloc((size_t)(M ? M : 1) * FID_WIN_HEADLINE * sizeof *out->resid);
+    out->lat_resid = calloc((size_t)FID_LAT_GROUPS * FID_WIN_HEADLINE, sizeof *out->lat_resid);
+    out->start_resid = calloc((size_t)(M ? M : 1) * FID_WIN_HEADLINE, sizeof *out->start_resid);
+    out->start_windows = 0;
     out->t95 = t, out->npairs = npairs;
     /* the drain: the last pixel's path ends one path latency after its admission */
     double drain = out->mean_latency * (prim > 0 ? rays / prim : 1.0);
@@ -711,6 +756,8 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
         for (uint32_t q = 0; k < FID_WIN_HEADLINE && q < M && res && out->resid; q++)
             out->resid[(size_t)k * M + q] = e > 0 ? res[q] * scale * sqrt(dof * (1.0 - f)) / e : 0;
         out->start_err[k] = e > 0 && cn > 0 ? fid_t95((int)cn - 1) * csd / sqrt(cn) / e : 0;
+        if (k < FID_WIN_HEADLINE && e > 0 && out->start_resid && out->lat_resid)
+            pairing_residuals(lat, beta, xs, pc, order, M, cbar, cn, fpc, N, e, k, out);
         /* the lattice's standard error of beta . x per pixel */
         double m = 0, v = 0;
         for (int a = 0; a < FID_AUX_COUNT; a++) {

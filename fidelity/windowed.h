@@ -58,6 +58,10 @@ enum {
  * in when the lattice's pixels run through the functional level's caches
  * (a window's: from the lattice's pixels inside it) */
 enum { FID_AUX_PRIMARY, FID_AUX_BOUNCE, FID_AUX_DRAM_LINES, FID_AUX_COUNT };
+/* the lattice's pixels in interleaved groups (pixel k of the lattice in
+ * group k % FID_LAT_GROUPS), each a sparser lattice of its own: the spread
+ * of the groups' estimates is what a paired estimate pairs */
+enum { FID_LAT_GROUPS = 16 };
 
 typedef struct fid_windowed {
     /* the plan and what ran */
@@ -86,6 +90,15 @@ typedef struct fid_windowed {
      * a sweep's paired estimates pair them across machines (owned) */
     double *resid, t95;
     uint32_t npairs;
+    /* the random errors beside the windows' interval, as residuals that pair
+     * across machines too (relative to the frame's figure; their sums of
+     * squares are the variances): lat_resid[k * FID_LAT_GROUPS + g], group
+     * g's estimate of the lattice's part less the groups' mean;
+     * start_resid[k * windows + q], window q's (image order) start excess
+     * less the mean (0 for a window without a warm-up); start_windows: the
+     * windows with one (owned) */
+    double *lat_resid, *start_resid;
+    uint32_t start_windows;
     struct fid_win_runs *runs;    /* the windows run so far (owned) */
 } fid_windowed;
 

@@ -65,7 +65,7 @@ def decide(d, p):
     """(header, results, baselines, why): why maps each point to rerun at
     full to its reason ("" for a baseline rerun for its group's points)."""
     header, res = paired.load(d)
-    base = paired.groups(header, res)
+    base = paired.groups(header, res, rtsim_runs.sweep_conf(d, "baseline") or None)
     why = {}
     for pt, j in res:
         b = base.get(pt[0])

@@ -83,6 +83,25 @@ def window_plan(j):
     return (j.get("window.count"), j.get("window.pixels"), j.get("window.warm_pixels"), j.get("window.lattice_pixels"))
 
 
+def paired_other(ja, jb, col):
+    """The lattice's and the start correction's errors of the change, paired
+    like the windows': both runs took the same lattice pixels and the same
+    windows' warm-ups, so the differences of their residuals (each set's
+    squares sum to its variance, relative to the frame's figure) carry what
+    does not cancel; Student t with the groups' and the windows' degrees of
+    freedom. None when a run does not carry them."""
+    g, w = ja.get("window.lattice_groups"), ja.get("window.start_windows")
+    n = int(ja.get("window.paired_windows") or 0)
+    if not g or not w or g != jb.get("window.lattice_groups") or w != jb.get("window.start_windows"):
+        return None
+    g, w = int(g), int(w)
+    lat = sum((jb["window.lat_resid.%s.%d" % (col, i)] - ja["window.lat_resid.%s.%d" % (col, i)]) ** 2
+              for i in range(g))
+    start = sum((jb["window.start_resid.%s.%d" % (col, q)] - ja["window.start_resid.%s.%d" % (col, q)]) ** 2
+                for q in range(n))
+    return math.hypot(t95(g - 1) * math.sqrt(lat), t95(max(w - 1, 1)) * math.sqrt(start))
+
+
 def change(ja, jb, fig):
     """(change %, half-width in points, paired?) of figure fig of jb against ja."""
     col, key, est = fig
@@ -95,7 +114,9 @@ def change(ja, jb, fig):
         n = int(ja["window.paired_windows"])
         d = [jb["window.resid.%s.%d" % (col, q)] - ja["window.resid.%s.%d" % (col, q)] for q in range(n)]
         s, np_ = pairs_sumsq(d)
-        other = math.hypot(ja["window.other_err." + col], jb["window.other_err." + col]) / 100
+        other = paired_other(ja, jb, col)
+        if other is None:   # runs without the residuals below: as if independent
+            other = math.hypot(ja["window.other_err." + col], jb["window.other_err." + col]) / 100
         bias = max(ja["window.bias_err." + col], jb["window.bias_err." + col]) / 100
         rel = math.hypot(t95(np_) * math.sqrt(s), other) + bias
         paired = True

@@ -200,7 +200,7 @@ def gnuplot(tool, script, outputs):
 # scripts/sweep's points (docs/sweep.md): DIR/jobs.tsv holds a header (name
 # scene rays machine res set KEY... args), then one point a line; job i is
 # line i + 1. DIR/sweep.conf names the rtsim binary, the folder the sweep was
-# started in and the --stat keys.
+# started in, the --stat keys and the paired changes' --baseline.
 
 
 def _basename(path):
@@ -223,7 +223,7 @@ def sweep_point_name(scene, rays, machine, res, extra, sets):
     return "%s-%s" % (safe, digest)
 
 
-def sweep_plan(dir, rtsim, cwd, scenes, rays, machines, res, grid, fixed_sets, rtsim_args, stats):
+def sweep_plan(dir, rtsim, cwd, scenes, rays, machines, res, grid, fixed_sets, rtsim_args, stats, baseline=""):
     """Writes DIR/jobs.tsv (rewritten only on a change, so a running Slurm
     array never sees its indices move) and DIR/sweep.conf. Points in a fixed
     order: scenes, rays, machines, then the grid keys, the last one varying
@@ -258,7 +258,8 @@ def sweep_plan(dir, rtsim, cwd, scenes, rays, machines, res, grid, fixed_sets, r
         os.replace(tmp, jobs)
     tmp = os.path.join(dir, ".sweep.conf.%d" % os.getpid())
     with open(tmp, "w") as f:
-        f.write("rtsim %s\ncwd %s\n" % (rtsim, cwd) + "".join("stat %s\n" % st for st in stats))
+        f.write("rtsim %s\ncwd %s\n" % (rtsim, cwd) + "".join("stat %s\n" % st for st in stats) +
+                ("baseline %s\n" % baseline if baseline else ""))
     os.replace(tmp, os.path.join(dir, "sweep.conf"))
 
 
@@ -267,7 +268,7 @@ def _sweep_die(msg):
     sys.exit(2)
 
 
-def _sweep_conf(dir, key):
+def sweep_conf(dir, key):
     """The rest of the first line of DIR/sweep.conf that starts with KEY ("" if none)."""
     try:
         with open(os.path.join(dir, "sweep.conf")) as f:
@@ -298,12 +299,12 @@ def sweep_point(dir, index):
     line = table[int(index)] if int(index) < len(table) else ""
     if not line:
         _sweep_die("run-point: %s/jobs.tsv has no point %s" % (dir, index))
-    rtsim = _sweep_conf(dir, "rtsim")
+    rtsim = sweep_conf(dir, "rtsim")
     if not (os.path.isfile(rtsim) and os.access(rtsim, os.X_OK)):
         _sweep_die("run-point: rtsim binary '%s' (from %s/sweep.conf) is not executable" % (rtsim, dir))
     # Relative scene, machine and argument paths are relative to where the
     # sweep was started, wherever this job runs.
-    cwd = _sweep_conf(dir, "cwd")
+    cwd = sweep_conf(dir, "cwd")
     if cwd:
         try:
             os.chdir(cwd)
@@ -391,10 +392,12 @@ def _sweep_plan_main(argv):
     ap.add_argument("--grid", action="append", default=[], help="KEY=V1,V2,...: a swept key (repeatable)")
     ap.add_argument("--set", action="append", default=[], help="KEY=VALUE: a fixed override (repeatable)")
     ap.add_argument("--stat", action="append", default=[], help="one more JSON statistic for the CSV (repeatable)")
+    ap.add_argument("--baseline", default="", help="KEY=V[,KEY=V]: the paired changes' baseline (scripts/paired.py)")
     ap.add_argument("rtsim_args", nargs="*", help="fixed rtsim arguments for every point (after --)")
     a = ap.parse_args(argv)
     grid = [(g.split("=", 1)[0], g.split("=", 1)[1].split(",")) for g in a.grid]
-    sweep_plan(a.dir, a.rtsim, a.cwd, a.scene, a.rays, a.machine, a.res, grid, a.set, a.rtsim_args, a.stat)
+    sweep_plan(a.dir, a.rtsim, a.cwd, a.scene, a.rays, a.machine, a.res, grid, a.set, a.rtsim_args, a.stat,
+               a.baseline)
 
 
 if __name__ == "__main__":

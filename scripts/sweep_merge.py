@@ -168,7 +168,7 @@ def write_paired_if_windowed(d, results):
     if not any(j.get("fidelity") == "windowed" for _, j in results):
         return
     import paired
-    path, rows = paired.write_paired(d)
+    path, rows = paired.write_paired(d, rtsim_runs.sweep_conf(d, "baseline") or None)
     print(f"sweep: paired changes of {len(rows)} points against their baselines in {path}")
 
 

@@ -8,6 +8,21 @@
 
 #include "model/energy/energy.h"
 
+/* n statistics PREFIX.FIG.I (ratio), I = 0..n-1, over v[I]; desc_fmt takes
+ * I and what (the figure in words). */
+static int residual_list(ks_stats *st, const char *prefix, const char *fig, uint64_t n, double *v,
+                         const char *desc_fmt, const char *what)
+{
+    int rc = 0;
+    for (uint64_t i = 0; i < n; i++) {
+        char key[96], desc[240];
+        snprintf(key, sizeof key, "%s.%s.%llu", prefix, fig, (unsigned long long)i);
+        snprintf(desc, sizeof desc, desc_fmt, (unsigned long long)i, what);
+        rc |= ks_stat_real_ref(st, key, "ratio", desc, &v[i]);
+    }
+    return rc;
+}
+
 int fid_own_stats(fid_outcome *o)
 {
     fid_own *w = o->own;
@@ -88,28 +103,16 @@ int fid_own_stats(fid_outcome *o)
             snprintf(key, sizeof key, "window.bias_err.%s", fig[k]);
             snprintf(desc, sizeof desc, "%s: the bias bounds (cold fills + floor)", fig[k]);
             rc |= ks_stat_real_ref(st, key, "%", desc, &w->bias_err[k]);
-            for (uint64_t q = 0; q < w->paired_windows; q++) {
-                snprintf(key, sizeof key, "window.resid.%s.%llu", fig[k], (unsigned long long)q);
-                snprintf(desc, sizeof desc,
-                         "window %llu (image order): its residual of %s as it enters the interval, relative to "
-                         "the frame's figure",
-                         (unsigned long long)q, k == FID_WIN_CYCLES ? "the cycles" : fig[k]);
-                rc |= ks_stat_real_ref(st, key, "ratio", desc, &w->resid[k][q]);
-                snprintf(key, sizeof key, "window.start_resid.%s.%llu", fig[k], (unsigned long long)q);
-                snprintf(desc, sizeof desc,
-                         "window %llu (image order): its start excess of %s less the mean, relative to the frame's "
-                         "figure, scaled so the squares sum to the start correction's variance",
-                         (unsigned long long)q, k == FID_WIN_CYCLES ? "the cycles" : fig[k]);
-                rc |= ks_stat_real_ref(st, key, "ratio", desc, &w->start_resid[k][q]);
-            }
-            for (uint64_t g = 0; g < w->lattice_groups; g++) {
-                snprintf(key, sizeof key, "window.lat_resid.%s.%llu", fig[k], (unsigned long long)g);
-                snprintf(desc, sizeof desc,
-                         "lattice group %llu: its estimate of %s less the groups' mean, relative to the frame's "
-                         "figure, scaled so the squares sum to the lattice's variance",
-                         (unsigned long long)g, k == FID_WIN_CYCLES ? "the cycles" : fig[k]);
-                rc |= ks_stat_real_ref(st, key, "ratio", desc, &w->lat_resid[k][g]);
-            }
+            const char *what = k == FID_WIN_CYCLES ? "the cycles" : fig[k];
+            rc |= residual_list(st, "window.resid", fig[k], w->paired_windows, w->resid[k],
+                                "window %llu (image order): its residual of %s as it enters the interval, "
+                                "relative to the frame's figure", what);
+            rc |= residual_list(st, "window.start_resid", fig[k], w->paired_windows, w->start_resid[k],
+                                "window %llu (image order): its start excess of %s less the mean, relative to the "
+                                "frame's figure, scaled so the squares sum to the start correction's variance", what);
+            rc |= residual_list(st, "window.lat_resid", fig[k], w->lattice_groups, w->lat_resid[k],
+                                "lattice group %llu: its estimate of %s less the groups' mean, relative to the "
+                                "frame's figure, scaled so the squares sum to the lattice's variance", what);
         }
     }
     /* windowed's Table 1 figures, under the full model's names

@@ -102,15 +102,7 @@ def plan_full(d, p):
     fd = os.path.join(d, "full")
     for sub in ("results", "logs"):
         os.makedirs(os.path.join(fd, sub), exist_ok=True)
-    text = "\n".join("\t".join(r) for r in [header] + rows) + "\n"
-    jobs = os.path.join(fd, "jobs.tsv")
-    try:
-        with open(jobs) as f:
-            same = f.read() == text
-    except OSError:
-        same = False
-    if not same:
-        rtsim_runs.write_atomic(jobs, text)
+    rtsim_runs.write_jobs(fd, "\n".join("\t".join(r) for r in [header] + rows) + "\n")
     with open(os.path.join(d, "sweep.conf")) as f:
         rtsim_runs.write_atomic(os.path.join(fd, "sweep.conf"), f.read())
     nbase = sum(1 for n in why if not why[n])

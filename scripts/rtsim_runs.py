@@ -187,6 +187,19 @@ def write_atomic(path, text):
     os.replace(tmp, path)
 
 
+def write_jobs(dir, text):
+    """DIR/jobs.tsv with text, rewritten only on a change (atomically), so a
+    running Slurm array never sees its indices move."""
+    jobs = os.path.join(dir, "jobs.tsv")
+    try:
+        with open(jobs) as f:
+            if f.read() == text:
+                return
+    except OSError:
+        pass
+    write_atomic(jobs, text)
+
+
 def gnuplot(tool, script, outputs):
     """Runs a gnuplot script that writes OUT.tmp for each OUT, then renames."""
     p = subprocess.run(["gnuplot"], input=script, text=True, stdout=subprocess.PIPE, stderr=subprocess.PIPE)
@@ -244,18 +257,7 @@ def sweep_plan(dir, rtsim, cwd, scenes, rays, machines, res, grid, fixed_sets, r
                     if name not in seen:
                         seen.add(name)
                         lines.append("\t".join([name, s, r, m, res, fixed] + vals + [extra]))
-    text = "\n".join(lines) + "\n"
-    jobs = os.path.join(dir, "jobs.tsv")
-    try:
-        with open(jobs) as f:
-            same = f.read() == text
-    except OSError:
-        same = False
-    if not same:
-        tmp = os.path.join(dir, ".jobs.tsv.%d" % os.getpid())
-        with open(tmp, "w") as f:
-            f.write(text)
-        os.replace(tmp, jobs)
+    write_jobs(dir, "\n".join(lines) + "\n")
     tmp = os.path.join(dir, ".sweep.conf.%d" % os.getpid())
     with open(tmp, "w") as f:
         f.write("rtsim %s\ncwd %s\n" % (rtsim, cwd) + "".join("stat %s\n" % st for st in stats) +

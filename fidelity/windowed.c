@@ -11,6 +11,7 @@
 #include "fidelity/functional.h"
 #include "fidelity/subset.h"
 #include "kernel/fork_pool.h"
+#include "model/mem/memsys_config.h"
 #include "model/ray/accel_ray.h"
 #include "tracer/trace/bounce.h"
 #include "tracer/trace/camera.h"
@@ -497,14 +498,16 @@ static int run_more(const fid_job *job, struct fid_win_runs *r, uint32_t upto, b
     return rc;
 }
 
-/* Bytes of one snapshot of the machine's caches (tags and LRU stamps). */
+/* Bytes of one snapshot of the machine's caches: a copy of each cache core
+ * (fid_func_snap: every node L1, the node L2, the primitive cache). */
 static double snap_bytes(const rtcfg *cfg)
 {
-    double lines = (double)rtcfg_int(cfg, "trv.count") * (double)rtcfg_int(cfg, "node_l1.size") /
-                       (double)rtcfg_int(cfg, "node_l1.line") +
-                   (double)rtcfg_int(cfg, "node_l2.size") / (double)rtcfg_int(cfg, "node_l2.line") +
-                   (double)rtcfg_int(cfg, "prim.size") / (double)rtcfg_int(cfg, "prim.line");
-    return 16.0 * lines + 4096.0;   /* a tag and a stamp per line, and the core's own tables */
+    cache_params l1, l2, prim;
+    memsys_cache_params(cfg, "node_l1", &l1);
+    memsys_cache_params(cfg, "node_l2", &l2);
+    memsys_cache_params(cfg, "prim", &prim);
+    return (double)rtcfg_int(cfg, "trv.count") * (double)cache_core_bytes(&l1) + (double)cache_core_bytes(&l2) +
+           (double)cache_core_bytes(&prim);
 }
 
 /* growth: --accuracy may add windows (up to 2.4x the plan, auto_windowed,

@@ -137,6 +137,17 @@ int cache_core_check_params(const cache_params *p, const char *s, char *err, siz
     return 0;
 }
 
+size_t cache_core_bytes(const cache_params *p)
+{
+    uint64_t per_set = (uint64_t)p->line_bytes * p->ways * p->banks;
+    size_t nsets = per_set ? (size_t)(p->size_bytes / per_set) * p->banks : 0, nways = nsets * p->ways;
+    size_t nwaiters = (size_t)p->mshrs * p->mshr_merge;
+    /* what cache_core_create allocates, array by array */
+    return sizeof(cache_core) + nways * (sizeof(uint64_t) + sizeof(uint64_t)) + nsets * sizeof(int) +
+           p->mshrs * (sizeof(mshr) + sizeof(uint64_t) + 2 * sizeof(int) + p->mshr_merge * sizeof(int)) +
+           nwaiters * (sizeof(waiter) + sizeof(int)) + p->banks * (2 * sizeof(int64_t) + sizeof(uint32_t));
+}
+
 cache_core *cache_core_create(const cache_params *p, char *err, size_t errlen)
 {
     if (cache_core_check_params(p, "cache", err, errlen))

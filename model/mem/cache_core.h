@@ -144,6 +144,9 @@ void cache_core_set_miss_hook(cache_core *c, cache_core_miss_hook fn, void *user
  * c's statistics, MSHRs and port and bank timing stay its own. 0, or -1
  * when the geometries differ. */
 int cache_core_copy_contents(cache_core *c, const cache_core *src);
+/* The bytes a core of these parameters takes (cache_core_create's
+ * allocations): what a copy of one costs (fidelity/windowed.c). */
+size_t cache_core_bytes(const cache_params *p);
 bool cache_core_contains(const cache_core *c, uint64_t addr);        /* no side effects */
 /* Every line of [addr, addr+bytes) present (ctx = the cache; no side
  * effects: no LRU update, no statistics). */

@@ -656,8 +656,25 @@ static void run_random(uint32_t size, uint32_t line, uint32_t ways, uint32_t ban
     run_random_addressed(size, line, ways, banks, ports, mshrs, merge, requests, ops, 0);
 }
 
+/* cache_core_bytes: what a copy of a core costs (the windowed level's
+ * snapshots are refused beyond a budget): at least a tag and a stamp per
+ * way, growing with the ways and the MSHRs as their arrays do. */
+static void test_bytes(void)
+{
+    tb_begin("cache_core_bytes");
+    cache_params small = {32768, 64, 4, 1, 1, 8, 4, 1, 0}, big = small, more = small;
+    big.size_bytes = 65536;
+    more.mshrs = 16;
+    size_t bs = cache_core_bytes(&small), bb = cache_core_bytes(&big), bm = cache_core_bytes(&more);
+    TB_CHECK(bs >= 512 * 16, "%zu bytes for 512 ways", bs);
+    TB_CHECK(bb - bs >= 512 * 16 && bb - bs <= 512 * 16 + 256 * sizeof(int) * 2, "%zu more for 512 more ways", bb - bs);
+    TB_CHECK(bm > bs && bm - bs < 8 * 256, "%zu more for 8 more MSHRs", bm - bs);
+    tb_end();
+}
+
 int main(void)
 {
+    test_bytes();
     test_hit_miss_merge();
     test_lru_eviction();
     test_mshr_exhaustion();

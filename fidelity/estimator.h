@@ -11,7 +11,7 @@
 
 #include <stdint.h>
 
-enum { FID_EST_AUX = 3 };   /* auxiliary figures per window (windowed.h FID_AUX_COUNT) */
+enum { FID_EST_AUX = 4 };   /* auxiliary figures per window (windowed.h FID_AUX_COUNT) */
 
 /* Student t, two-sided 95%, for dof degrees of freedom (>= 1; < 1 reads as 1). */
 double fid_t95(int dof);

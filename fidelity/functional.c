@@ -87,7 +87,11 @@ static void trace_slot(fn_state *st, fn_slot *s, uint32_t trv)
     o->trv_visits[trv] += c.visits;
     o->trv_leaves[trv] += c.leaves;
     if (st->attr) {
-        st->attr[s->path][s->bounce ? FID_ATTR_BOUNCE : FID_ATTR_PRIMARY] += (float)(c.visits + c.tri_tests);
+        float *a = st->attr[s->path];
+        a[FID_ATTR_VISITS] += (float)c.visits;
+        a[FID_ATTR_TRI_TESTS] += (float)c.tri_tests;
+        if (s->bounce)
+            a[FID_ATTR_BOUNCE_WORK] += (float)(c.visits + c.tri_tests);
         st->attr[s->path][FID_ATTR_RAYS] += 1.0f;
     }
     s->busy = true;

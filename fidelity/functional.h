@@ -59,11 +59,11 @@ typedef struct fid_func {
 int fid_functional_run(const fid_job *job, const uint32_t *pixels, uint32_t npix, fid_func *out, char *err,
                        size_t errlen);
 
-/* What the run charged to each pixel's path: the traversal work (node
- * visits + triangle tests) of its primary ray and of its bounces, the DRAM
- * lines its rays' misses brought in (a miss is the ray's that made it) and
- * its rays. */
-enum { FID_ATTR_PRIMARY, FID_ATTR_BOUNCE, FID_ATTR_DRAM_LINES, FID_ATTR_RAYS, FID_ATTR_COUNT };
+/* What the run charged to each pixel's path: its rays' node visits and
+ * triangle tests, its bounce rays' traversal work (visits + tests), the
+ * DRAM lines its rays' misses brought in (a miss is the ray's that made it)
+ * and its rays. */
+enum { FID_ATTR_VISITS, FID_ATTR_TRI_TESTS, FID_ATTR_BOUNCE_WORK, FID_ATTR_DRAM_LINES, FID_ATTR_RAYS, FID_ATTR_COUNT };
 typedef float fid_func_attr[FID_ATTR_COUNT];
 
 /* fid_functional_run with attr[i] (npix of them, zeroed here) filled for

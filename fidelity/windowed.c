@@ -51,20 +51,24 @@ static void path_tracer_free(path_tracer *pt)
     pt->own = NULL, pt->order = NULL;
 }
 
-/* The traversal work of pixel p's path (node visits + triangle tests, the
- * rays the model traces for the pixel): work[0] its primary ray's, work[1]
- * its bounces' (FID_AUX_PRIMARY, FID_AUX_BOUNCE). */
-static void path_work(const path_tracer *pt, uint32_t p, double work[2])
+/* The traversal work of pixel p's path (the rays the model traces for the
+ * pixel), as the first three auxiliary figures: its rays' node visits and
+ * triangle tests, its bounces' visits + tests (FID_AUX_VISITS,
+ * FID_AUX_TRI_TESTS, FID_AUX_BOUNCE_WORK). */
+static void path_work(const path_tracer *pt, uint32_t p, double work[FID_AUX_DRAM_LINES])
 {
     const fid_job *job = pt->job;
     const uint32_t px = rt_pixel_at(pt->order, p);   /* p: a position in the pixel order */
     rt_ray ray = rt_camera_primary_ray(&pt->cam, px % job->width, px / job->width), next;
     rt_hit hit;
-    work[FID_AUX_PRIMARY] = work[FID_AUX_BOUNCE] = 0;
+    work[FID_AUX_VISITS] = work[FID_AUX_TRI_TESTS] = work[FID_AUX_BOUNCE_WORK] = 0;
     for (bool bounce = false;; bounce = true) {
         rt_trv_counts c = {0};
         rt_trace_ray(job->img, &pt->tp, &ray, &hit, &c, NULL, NULL);
-        work[bounce ? FID_AUX_BOUNCE : FID_AUX_PRIMARY] += (double)c.visits + (double)c.tri_tests;
+        work[FID_AUX_VISITS] += (double)c.visits;
+        work[FID_AUX_TRI_TESTS] += (double)c.tri_tests;
+        if (bounce)
+            work[FID_AUX_BOUNCE_WORK] += (double)c.visits + (double)c.tri_tests;
         if (!job->diffuse || !rt_bounce_ray(job->mesh, &ray, &hit, job->seed, job->bounces, &next))
             break;
         ray = next;
@@ -223,7 +227,9 @@ static int run_lattice(const win_plan *pl, win_lattice *lat, char *err, size_t e
         if (k >= n || px[k] != p)
             continue;
         const float *a = attr[k++];
-        double x[FID_AUX_COUNT] = {a[FID_ATTR_PRIMARY], a[FID_ATTR_BOUNCE], a[FID_ATTR_DRAM_LINES]}, rays = a[FID_ATTR_RAYS];
+        double x[FID_AUX_COUNT] = {a[FID_ATTR_VISITS], a[FID_ATTR_TRI_TESTS], a[FID_ATTR_BOUNCE_WORK],
+                                   a[FID_ATTR_DRAM_LINES]},
+               rays = a[FID_ATTR_RAYS];
         lat->cum[p + 1] += x[FID_AUX_DRAM_LINES], lat->ncum[p + 1] += 1;
         uint32_t g = (uint32_t)((k - 1) % FID_LAT_GROUPS);   /* k: this pixel's index + 1 */
         lat->gn[g] += 1;
@@ -319,10 +325,11 @@ static int run_window(const win_plan *pl, uint32_t i, win_piece *r, char *err, s
         path_tracer pt;
         rc = path_tracer_init(&pt, job, pl->have_order, pl->order, err, errlen);
         for (uint64_t k = 0; rc == 0 && k < r->b.primaries && k < n; k++) {
-            double work[2];
+            double work[FID_AUX_DRAM_LINES];
             path_work(&pt, map[k], work);
             double *x = k < r->a.primaries ? r->x_warm : r->x_win;
-            x[FID_AUX_PRIMARY] += work[FID_AUX_PRIMARY], x[FID_AUX_BOUNCE] += work[FID_AUX_BOUNCE];
+            for (int a = 0; a < FID_AUX_DRAM_LINES; a++)
+                x[a] += work[a];
         }
         path_tracer_free(&pt);
     }
@@ -715,11 +722,12 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
     /* the drain: the last pixel's path ends one path latency after its admission */
     double drain = out->mean_latency * (prim > 0 ? rays / prim : 1.0);
     for (int k = 0; k < FID_WIN_FIGS; k++) {
-        /* y = beta . x per window: the primary rays' work and the bounces'
-         * work cost differently (coherent primary rays hit in the caches;
-         * DRAM bytes follow the bounces), so one ratio to the total work
-         * would carry the windows' mix of the two into the frame; the
-         * lattice's DRAM lines follow where in the scene the misses are */
+        /* y = beta . x per window: node visits load the TRVs and triangle
+         * tests the IST, and either may bound a window's cycles, so one
+         * ratio to their sum would carry the windows' mix of the two into
+         * the frame; the bounces' work costs differently from the primary
+         * rays' (coherent primary rays hit in the caches); the lattice's
+         * DRAM lines follow where in the scene the misses are */
         double beta[FID_AUX_COUNT], cs = 0, cs2 = 0, cn = 0, fitted = 0, pvar = 0;
         for (uint32_t i = 0; i < M; i++)
             y[i] = window_fig(&pc[i], k, false);

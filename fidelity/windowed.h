@@ -10,11 +10,11 @@
  * the window as the difference of two points of the run (accel_top.h
  * accel_top_run_until): cycles, rays, DRAM bytes and energy.
  *
- * Scaling to the frame: each figure fitted on the windows against three
+ * Scaling to the frame: each figure fitted on the windows against four
  * auxiliary figures of their pixels, applied to the frame's, estimated from
  * a lattice of 1 pixel in win_lattice run through the functional level
- * (functional.h, no timing): the traversal work (node visits + triangle
- * tests) of each pixel's primary ray and of its bounces, and the DRAM lines
+ * (functional.h, no timing): the node visits and the triangle tests of each
+ * pixel's rays, its bounces' traversal work, and the DRAM lines
  * the lattice's caches fetched for it (a window's: its lattice pixels',
  * scaled; where in the scene the misses are, which work alone does not
  * say: hairball diffuse MRPS was 3.1-3.5% off without it, 1.2-1.4% with,
@@ -53,11 +53,12 @@ enum {
     FID_WIN_DRAM_STATIC = FID_WIN_UNIT0 + EU_COUNT,
     FID_WIN_FIGS
 };
-/* the auxiliary figures of a pixel's path: node visits + triangle tests of
- * its primary ray, and of its bounce rays; the DRAM lines its misses bring
- * in when the lattice's pixels run through the functional level's caches
- * (a window's: from the lattice's pixels inside it) */
-enum { FID_AUX_PRIMARY, FID_AUX_BOUNCE, FID_AUX_DRAM_LINES, FID_AUX_COUNT };
+/* the auxiliary figures of a pixel's path: its rays' node visits (the
+ * TRVs' work) and triangle tests (the IST's), its bounce rays' traversal
+ * work (visits + tests), and the DRAM lines its misses bring in when the
+ * lattice's pixels run through the functional level's caches (a window's:
+ * from the lattice's pixels inside it) */
+enum { FID_AUX_VISITS, FID_AUX_TRI_TESTS, FID_AUX_BOUNCE_WORK, FID_AUX_DRAM_LINES, FID_AUX_COUNT };
 /* the lattice's pixels in interleaved groups (pixel k of the lattice in
  * group k % FID_LAT_GROUPS), each a sparser lattice of its own: the spread
  * of the groups' estimates is what a paired estimate pairs */

@@ -51,31 +51,35 @@ int main(void)
 
     tb_begin("estimator_fit_exact");
     {
+        /* every auxiliary figure with a coefficient of its own */
+        _Static_assert(FID_EST_AUX == 4, "the made-up windows below have four auxiliary figures");
         double x[8][FID_EST_AUX], y[8], beta[FID_EST_AUX];
         for (int i = 0; i < 8; i++) {
             x[i][0] = 100 + 17 * i, x[i][1] = 300 - 11 * i + (i % 3) * 40, x[i][2] = 5 + (i * 7) % 4;
-            y[i] = 2.0 * x[i][0] + 3.0 * x[i][1] + 0.5 * x[i][2];
+            x[i][3] = 40 + (i * i) % 7;
+            y[i] = 2.0 * x[i][0] + 3.0 * x[i][1] + 0.5 * x[i][2] + 1.5 * x[i][3];
         }
         int used = fid_fit_nonneg((const double(*)[FID_EST_AUX])x, y, 8, beta);
-        TB_CHECK(fabs(beta[0] - 2.0) < 1e-9 && fabs(beta[1] - 3.0) < 1e-9 && fabs(beta[2] - 0.5) < 1e-9,
-                 "beta %g %g %g, expected 2 3 0.5", beta[0], beta[1], beta[2]);
-        TB_EQ_INT(used, 3);
+        TB_CHECK(fabs(beta[0] - 2.0) < 1e-9 && fabs(beta[1] - 3.0) < 1e-9 && fabs(beta[2] - 0.5) < 1e-9 &&
+                     fabs(beta[3] - 1.5) < 1e-9,
+                 "beta %g %g %g %g, expected 2 3 0.5 1.5", beta[0], beta[1], beta[2], beta[3]);
+        TB_EQ_INT(used, 4);
     }
     tb_end();
 
     tb_begin("estimator_fit_nonneg");
     {
         /* y = 5 x0 - x1: the unconstrained fit needs a negative x1 */
-        double x[6][FID_EST_AUX], y[6], beta[FID_EST_AUX], num = 0, den = 0;
+        double x[6][FID_EST_AUX] = {{0}}, y[6], beta[FID_EST_AUX], num = 0, den = 0;
         for (int i = 0; i < 6; i++) {
-            x[i][0] = 50 + 10 * i, x[i][1] = 20 + 9 * (i % 2), x[i][2] = 0;
+            x[i][0] = 50 + 10 * i, x[i][1] = 20 + 9 * (i % 2);
             y[i] = 5 * x[i][0] - x[i][1];
             double wt = 1.0 / (x[i][0] + x[i][1]);
             num += wt * x[i][0] * y[i], den += wt * x[i][0] * x[i][0];
         }
         int used = fid_fit_nonneg((const double(*)[FID_EST_AUX])x, y, 6, beta);
-        TB_CHECK(beta[1] == 0.0 && beta[2] == 0.0 && fabs(beta[0] - num / den) < 1e-9 * (num / den),
-                 "beta %g %g %g, expected %g 0 0", beta[0], beta[1], beta[2], num / den);
+        TB_CHECK(beta[1] == 0.0 && beta[2] == 0.0 && beta[3] == 0.0 && fabs(beta[0] - num / den) < 1e-9 * (num / den),
+                 "beta %g %g %g %g, expected %g 0 0 0", beta[0], beta[1], beta[2], beta[3], num / den);
         TB_EQ_INT(used, 1);
     }
     tb_end();
@@ -91,7 +95,9 @@ int main(void)
         for (int d = 0; d < DRAWS; d++) {
             double X = 0, Y = 0, YB = 0, xs[STRATA][FID_EST_AUX], ys[STRATA], yb[STRATA];
             for (int s = 0; s < STRATA; s++) {
-                xs[s][0] = xs[s][1] = xs[s][2] = 0, ys[s] = yb[s] = 0;
+                for (int a = 0; a < FID_EST_AUX; a++)
+                    xs[s][a] = 0;
+                ys[s] = yb[s] = 0;
                 for (int u = 0; u < PER; u++) {
                     double x = 1000 + 600 * sin(0.4 * s) + 50 * normal(), e = normal();
                     double y = 2 * x * (1 + 0.1 * e), b = 2.2 * x * (1 + 0.1 * e + 0.02 * normal());
@@ -101,7 +107,7 @@ int main(void)
                     }
                 }
             }
-            double Xa[FID_EST_AUX] = {X, 0, 0}, rel[2][STRATA], est[2];
+            double Xa[FID_EST_AUX] = {X}, rel[2][STRATA], est[2];
             const double *yy[2] = {ys, yb};
             for (int m = 0; m < 2; m++) {
                 double beta[FID_EST_AUX], fitted = 0;

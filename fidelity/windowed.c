@@ -606,7 +606,6 @@ int fid_windowed_more(const fid_job *job, uint32_t windows, fid_windowed *out, c
     return run_more(job, out->runs, windows, true, out, err, errlen);
 }
 
-/* The frame's figures and their errors from the windows run so far. */
 /* The start correction's and the lattice's errors of headline figure k as
  * residuals that pair across machines (windowed.h lat_resid, start_resid):
  * the same windows and the same lattice pixels give every machine of a
@@ -640,6 +639,7 @@ static void pairing_residuals(const win_lattice *lat, const double beta[FID_AUX_
         out->lat_resid[(size_t)k * FID_LAT_GROUPS + g] = gnorm > 0 ? (T[g] - mean) * gnorm : 0;
 }
 
+/* The frame's figures and their errors from the windows run so far. */
 static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windowed *out)
 {
     const win_plan pl = r->pl;

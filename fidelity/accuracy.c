@@ -10,27 +10,41 @@
 #include "fidelity/levels.h"
 #include "fidelity/windowed.h"
 
-/* What the plan would need to meet acc, for the user to choose a target:
- * the windows' intervals (ci, already scaled to the plan's windows) shrink
- * as 1 / sqrt(windows); the lattice's and the start's errors (other) and
- * the bias bounds do not, so a figure whose other errors reach acc cannot
- * meet it with any number of windows. plan_share: the plan's pixels
- * through the model, a fraction of the frame. */
+/* How many times its windows a windowed estimate would need for every
+ * headline figure to come within acc (at least 1): the windows' intervals
+ * (ci) shrink as 1 / sqrt(windows); the lattice's and the start's errors
+ * (other) and the bias bounds do not, so they may leave a figure too
+ * little room: when the interval may grow only to a square of at most
+ * min_room2, returns 0 and *blocking is that figure (else -1). */
+static double windows_factor(const double *ci, const double *other, const double *bias, double acc,
+                             double min_room2, int *blocking)
+{
+    double scale = 1;
+    *blocking = -1;
+    for (int k = 0; k < FID_WIN_HEADLINE; k++) {
+        double rest = acc - bias[k], room2 = rest * rest - other[k] * other[k];
+        if (rest <= 0 || room2 <= min_room2) {
+            *blocking = k;
+            return 0;
+        }
+        scale = fmax(scale, ci[k] * ci[k] / room2);
+    }
+    return scale;
+}
+
+/* What the plan would need to meet acc, for the user to choose a target
+ * (ci already scaled to the plan's windows; windows_factor). plan_share:
+ * the plan's pixels through the model, a fraction of the frame. */
 static void windowed_need(const double *ci, const double *other, const double *bias, double acc,
                           double plan_share, char *out, size_t len)
 {
     static const char *const fig_name[FID_WIN_HEADLINE] = {"MRPS", "DRAM MB", "mJ/frame"};
-    double scale = 1;
-    for (int k = 0; k < FID_WIN_HEADLINE; k++) {
-        double rest = acc - bias[k], room2 = rest * rest - other[k] * other[k];
-        if (rest <= 0 || room2 <= 0) {
-            snprintf(out, len, "; its lattice and bias errors alone are %.1f%% on %s",
-                     100 * (bias[k] + other[k]), fig_name[k]);
-            return;
-        }
-        scale = fmax(scale, ci[k] * ci[k] / room2);
-    }
-    if (scale * plan_share > 1)
+    int k;
+    double scale = windows_factor(ci, other, bias, acc, 0, &k);
+    if (k >= 0)
+        snprintf(out, len, "; its lattice and bias errors alone are %.1f%% on %s", 100 * (bias[k] + other[k]),
+                 fig_name[k]);
+    else if (scale * plan_share > 1)
         snprintf(out, len, "; %.3g%% would need about %.1fx the plan's windows, more than the frame holds", 100 * acc,
                  scale);
     else
@@ -130,16 +144,10 @@ static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *p
          * the interval may grow to sqrt((acc - bias)^2 - other^2). Only a
          * need of at most twice the windows is tried: beyond it the
          * attempt would cost more than it is likely to save */
-        double e[FID_WIN_FIGS], ci[FID_WIN_FIGS], other[FID_WIN_FIGS], bias[FID_WIN_FIGS], scale = 1;
+        double e[FID_WIN_FIGS], ci[FID_WIN_FIGS], other[FID_WIN_FIGS], bias[FID_WIN_FIGS];
         fid_lv_windowed_errors(&wd, e, ci, other, bias);
-        for (int k = 0; k < FID_WIN_HEADLINE; k++) {
-            double rest = acc - bias[k], room2 = rest * rest - other[k] * other[k];
-            if (rest <= 0 || room2 <= 0.01 * acc * acc) {
-                scale = 0;
-                break;
-            }
-            scale = fmax(scale, ci[k] * ci[k] / room2);
-        }
+        int blocking;
+        double scale = windows_factor(ci, other, bias, acc, 0.01 * acc * acc, &blocking);
         double per = (double)(wd.window_pixels + wd.warm_pixels) / npix;
         if (scale <= 0 || scale > 2.0)
             break;

@@ -610,20 +610,21 @@ int fid_windowed_more(const fid_job *job, uint32_t windows, fid_windowed *out, c
  * residuals that pair across machines (windowed.h lat_resid, start_resid):
  * the same windows and the same lattice pixels give every machine of a
  * sweep the same sampling, so in a change between two machines these
- * errors largely cancel, as the windows' do. Each set's sum of squares is
+ * errors largely cancel, as the windows' do. ex[i]: window i's start
+ * excess (estimate's). Each set's sum of squares is
  * the variance of its part of the figure (relative): the start
  * correction is the mean of cn windows' excesses; the lattice's part is the
  * mean of FID_LAT_GROUPS interleaved groups' estimates (replicated
  * sampling: the groups' spread stands for the lattice's). */
-static void pairing_residuals(const win_lattice *lat, const double beta[FID_AUX_COUNT],
-                              const double (*xs)[FID_AUX_COUNT], const win_piece *pc, const uint32_t *order, uint32_t M,
-                              double cbar, double cn, double fpc, double N, double e, int k, fid_windowed *out)
+static void pairing_residuals(const win_lattice *lat, const double beta[FID_AUX_COUNT], const double *ex,
+                              const win_piece *pc, const uint32_t *order, uint32_t M, double cbar, double cn,
+                              double fpc, double N, double e, int k, fid_windowed *out)
 {
     double norm = cn > 1 ? 1.0 / (e * sqrt(cn * (cn - 1))) : 0;
     for (uint32_t q = 0; q < M; q++) {
         const win_piece *w = &pc[order[q]];
         out->start_resid[(size_t)k * M + q] =
-            w->a.primaries ? (window_fig(w, k, true) - fid_dot(beta, xs[order[q]]) - cbar) * norm : 0;
+            w->a.primaries ? (ex[order[q]] - cbar) * norm : 0;
     }
     out->start_windows = (uint32_t)cn;
     double T[FID_LAT_GROUPS], mean = 0;
@@ -662,11 +663,11 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
 
     /* the windows, and their auxiliary figures with the lattice's DRAM lines */
     double(*xw)[FID_AUX_COUNT] = malloc((size_t)M * sizeof *xw), (*xs)[FID_AUX_COUNT] = malloc((size_t)M * sizeof *xs);
-    double *y = malloc((size_t)M * sizeof *y);
+    double *y = malloc((size_t)M * sizeof *y), *ex = malloc((size_t)M * sizeof *ex);
     uint32_t *order = malloc((size_t)M * sizeof *order);
     uint64_t *pos = malloc((size_t)M * sizeof *pos);
-    if (!xw || !xs || !y || !order || !pos) {
-        free(xw), free(xs), free(y), free(order), free(pos);
+    if (!xw || !xs || !y || !ex || !order || !pos) {
+        free(xw), free(xs), free(y), free(ex), free(order), free(pos);
         for (int k = 0; k < FID_WIN_FIGS; k++)
             out->ci[k] = 1.0;   /* no interval: flagged by the bound */
         return;
@@ -748,7 +749,7 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
             const win_piece *w = &pc[i];
             if (!w->a.primaries)
                 continue;
-            double c = window_fig(w, k, true) - fid_dot(beta, xs[i]);
+            double c = ex[i] = window_fig(w, k, true) - fid_dot(beta, xs[i]);
             cs += c, cs2 += c * c, cn += 1;
         }
         double cbar = cn > 0 ? cs / cn : 0;
@@ -768,7 +769,7 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
             out->resid[(size_t)k * M + q] = e > 0 ? res[q] * scale * sqrt(dof * (1.0 - f)) / e : 0;
         out->start_err[k] = e > 0 && cn > 0 ? fid_t95((int)cn - 1) * csd / sqrt(cn) / e : 0;
         if (k < FID_WIN_HEADLINE && e > 0 && out->start_resid && out->lat_resid)
-            pairing_residuals(lat, beta, xs, pc, order, M, cbar, cn, fpc, N, e, k, out);
+            pairing_residuals(lat, beta, ex, pc, order, M, cbar, cn, fpc, N, e, k, out);
         /* the lattice's standard error of beta . x per pixel */
         double m = 0, v = 0;
         for (int a = 0; a < FID_AUX_COUNT; a++) {
@@ -791,5 +792,5 @@ static void estimate(const fid_job *job, const struct fid_win_runs *r, fid_windo
     for (int u = 0; u < EU_COUNT && out->has_units; u++)
         out->leak_mw[u] = pc[0].leak_mw[u], out->area_mm2[u] = pc[0].area_mm2[u];
     out->static_mj = cycles_win > 0 ? s_static / cycles_win * out->cycles : 0;
-    free(xw), free(xs), free(y), free(order), free(pos), free(res);
+    free(xw), free(xs), free(y), free(ex), free(order), free(pos), free(res);
 }

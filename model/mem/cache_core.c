@@ -137,10 +137,17 @@ int cache_core_check_params(const cache_params *p, const char *s, char *err, siz
     return 0;
 }
 
-size_t cache_core_bytes(const cache_params *p)
+/* Sets in each bank (floor for index-addressed caches; 0 for a geometry
+ * cache_core_check_params refuses). */
+static uint32_t sets_per_bank(const cache_params *p)
 {
     uint64_t per_set = (uint64_t)p->line_bytes * p->ways * p->banks;
-    size_t nsets = per_set ? (size_t)(p->size_bytes / per_set) * p->banks : 0, nways = nsets * p->ways;
+    return per_set ? (uint32_t)(p->size_bytes / per_set) : 0;
+}
+
+size_t cache_core_bytes(const cache_params *p)
+{
+    size_t nsets = (size_t)sets_per_bank(p) * p->banks, nways = nsets * p->ways;
     size_t nwaiters = (size_t)p->mshrs * p->mshr_merge;
     /* what cache_core_create allocates, array by array */
     return sizeof(cache_core) + nways * (sizeof(uint64_t) + sizeof(uint64_t)) + nsets * sizeof(int) +
@@ -152,7 +159,6 @@ cache_core *cache_core_create(const cache_params *p, char *err, size_t errlen)
 {
     if (cache_core_check_params(p, "cache", err, errlen))
         return NULL;
-    uint64_t per_set = (uint64_t)p->line_bytes * p->ways * p->banks;
     cache_core *c = calloc(1, sizeof *c);
     if (!c) {
         snprintf(err, errlen, "cache: out of memory");
@@ -162,7 +168,7 @@ cache_core *cache_core_create(const cache_params *p, char *err, size_t errlen)
     c->index = p->index_addressed != 0;
     c->line_shift = log2u(p->line_bytes);
     c->bank_shift = log2u(p->banks);
-    c->sets_per_bank = (uint32_t)(p->size_bytes / per_set);
+    c->sets_per_bank = sets_per_bank(p);
     c->nsets = c->sets_per_bank * p->banks;
     size_t nways = (size_t)c->nsets * p->ways;
     c->nwaiters = (int)(p->mshrs * p->mshr_merge);

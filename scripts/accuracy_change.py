@@ -29,6 +29,7 @@ import csv
 import io
 import json
 import os
+import signal
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -193,4 +194,6 @@ def main():
 
 
 if __name__ == "__main__":
+    # a reader that stops early (`| head`) ends this quietly, as it does a C tool
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)
     sys.exit(main())

@@ -20,8 +20,12 @@ import csv
 import json
 import os
 import subprocess
+import signal
 import sys
 import time
+
+# a reader that stops early (`| head`) ends this quietly, as it does a C tool
+signal.signal(signal.SIGPIPE, signal.SIG_DFL)
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 TRACES = ["a_seq", "b_rand64", "c_rand128", "d_mix7030", "e_rowloc"]

@@ -39,6 +39,7 @@ import io
 import json
 import math
 import os
+import signal
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -247,4 +248,6 @@ def main():
 
 
 if __name__ == "__main__":
+    # a reader that stops early (`| head`) ends this quietly, as it does a C tool
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)
     sys.exit(main())

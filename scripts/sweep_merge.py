@@ -24,6 +24,7 @@ import os
 import re
 import shutil
 import subprocess
+import signal
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
@@ -355,4 +356,6 @@ def draw_charts(d, header, grid, results, present):
 
 
 if __name__ == "__main__":
+    # a reader that stops early (`| head`) ends this quietly, as it does a C tool
+    signal.signal(signal.SIGPIPE, signal.SIG_DFL)
     sys.exit(main())

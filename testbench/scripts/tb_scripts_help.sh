@@ -95,8 +95,11 @@ for name in scripts:
     r, w = os.pipe()
     os.close(r)
     try:
+        # Python's default output buffering, as on a user's machine (unbuffered,
+        # the closed pipe passed unnoticed here and failed on a fresh one)
+        env = {k: v for k, v in os.environ.items() if k != "PYTHONUNBUFFERED"}
         q = subprocess.run([path, "--help"], cwd=tmp, stdout=w, stderr=subprocess.PIPE, text=True, timeout=60,
-                           env=dict(os.environ, RTSIM="/nonexistent/rtsim"))
+                           env=dict(env, RTSIM="/nonexistent/rtsim"))
         err = q.stderr
     except subprocess.TimeoutExpired:
         err = "did not return within 60 s"

@@ -26,9 +26,11 @@ relative errors; its random part is taken from the differences of the two
 runs' window residuals, paired with their neighbours in the image as each
 run's own interval is (collapsed strata, fidelity/estimator.c
 fid_pairs_sumsq, Student t with as many degrees of freedom as pairs). The
-lattice's and the start correction's errors are added in quadrature as if
-independent (they come from the same pixels and positive coefficients, so
-they are positively correlated and this overstates them), the bias bounds
+lattice's and the start correction's errors pair the same way: both runs
+took the same lattice pixels (16 interleaved groups) and the same windows'
+warm-ups, so the differences of their residuals carry what does not
+cancel (paired_other); runs that do not carry those residuals get them in
+quadrature as if independent. The bias bounds
 (cold fills and the floor, one-sided: both runs err the same way) as the
 larger of the two. Points whose windows differ (another plan, or a full
 run) get the plain sum of their two error estimates: no pairing.
@@ -103,28 +105,37 @@ def paired_other(ja, jb, col):
     return math.hypot(t95(g - 1) * math.sqrt(lat), t95(max(w - 1, 1)) * math.sqrt(start))
 
 
-def change(ja, jb, fig):
-    """(change %, half-width in points, paired?) of figure fig of jb against ja."""
+def change_parts(ja, jb, fig):
+    """The parts of change(): (change %, ratio b/a, windows' term, other
+    term, bias bound, paired?), the terms relative to the baseline's figure:
+    the half-width is 100 ratio (hypot(windows, other) + bias) points; the
+    windows' term alone shrinks with more windows (1 / sqrt(windows)). An
+    unpaired change has its whole relative half-width as `other` (windows'
+    term 0, bias 0). None for the change when a figure is missing."""
     col, key, est = fig
     a, b = ja.get(key), jb.get(key)
     if not a or b is None:
-        return None, None, False
+        return None, None, 0.0, 0.0, 0.0, False
     ratio = b / a
     pa, pb = window_plan(ja), window_plan(jb)
-    if pa is not None and pa == pb:
-        n = int(ja["window.paired_windows"])
-        d = [jb["window.resid.%s.%d" % (col, q)] - ja["window.resid.%s.%d" % (col, q)] for q in range(n)]
-        s, np_ = pairs_sumsq(d)
-        other = paired_other(ja, jb, col)
-        if other is None:   # runs without the residuals below: as if independent
-            other = math.hypot(ja["window.other_err." + col], jb["window.other_err." + col]) / 100
-        bias = max(ja["window.bias_err." + col], jb["window.bias_err." + col]) / 100
-        rel = math.hypot(t95(np_) * math.sqrt(s), other) + bias
-        paired = True
-    else:
-        rel = (ja.get(est, 0) + jb.get(est, 0)) / 100
-        paired = False
-    return rtsim_runs.change_pct(b, a), 100 * ratio * rel, paired
+    if pa is None or pa != pb:
+        return rtsim_runs.change_pct(b, a), ratio, 0.0, (ja.get(est, 0) + jb.get(est, 0)) / 100, 0.0, False
+    n = int(ja["window.paired_windows"])
+    d = [jb["window.resid.%s.%d" % (col, q)] - ja["window.resid.%s.%d" % (col, q)] for q in range(n)]
+    s, np_ = pairs_sumsq(d)
+    other = paired_other(ja, jb, col)
+    if other is None:   # runs without the residuals below: as if independent
+        other = math.hypot(ja["window.other_err." + col], jb["window.other_err." + col]) / 100
+    bias = max(ja["window.bias_err." + col], jb["window.bias_err." + col]) / 100
+    return rtsim_runs.change_pct(b, a), ratio, t95(np_) * math.sqrt(s), other, bias, True
+
+
+def change(ja, jb, fig):
+    """(change %, half-width in points, paired?) of figure fig of jb against ja."""
+    ch, ratio, win, other, bias, paired = change_parts(ja, jb, fig)
+    if ch is None:
+        return None, None, False
+    return ch, 100 * ratio * (math.hypot(win, other) + bias), paired
 
 
 def load(d):

@@ -4,11 +4,16 @@
 # machine, interior diffuse, one bounce, 640x360 with small L2 and primitive
 # caches so that the windows' caches fill and no point is flagged). With
 # 50pt no point is rerun and every change is the paired windowed one; with
-# 0.001pt every point and the baseline are rerun at full and the changes
-# equal those of a plain full sweep of the same points; with P between the
-# two points' half-widths only the wider one and the baseline are rerun and
-# the other keeps its windowed change; the same inputs give the same
-# changes.csv bytes; bad values and combinations exit 2 naming the option.
+# 0.001pt every point and the baseline are rerun at full (more windows
+# cannot bring a change within it) and the changes equal those of a plain
+# full sweep of the same points; with P just under the wider point's
+# half-width that point and the baseline are rerun with more windows (the
+# same windows' size, whole pairs) and its change is the paired one of those
+# two runs, or at full when still over P; with P between the two points'
+# half-widths and no room in the frame for more windows, only the wider one
+# and the baseline are rerun at full and the other keeps its windowed
+# change; the same inputs give the same changes.csv bytes; bad values and
+# combinations exit 2 naming the option.
 # The Slurm path (--slurm --wait) is in tb_sweep_slurm.sh.
 set -u
 bin=${RTSIM_BIN:?}/rtsim
@@ -41,12 +46,14 @@ fi
 grid=(--set-grid node_l1.size=4096,16384,65536 --scenes interior --rays diffuse --machines mbvh4 --res 640x360
       --set node_l2.size=32K --set prim.size=32K --jobs 1 --rtsim "$bin")
 d=$tmp/acc
+# 0.3 of the pixels: room for 4/3 the windows (at most 0.4 of the frame)
 acc() { "$sweep" "${grid[@]}" --out "$d" --accuracy-change "$1" -- --bounces 1 --sample-rate 0.3 --jobs 1; }
 
 # (a) a generous P: nothing rerun, every change the paired windowed one
 acc 50pt >"$tmp/a.log" 2>&1; rc=$?
-if [ $rc -eq 0 ] && grep -q "^sweep: --accuracy-change 50pt: 3 points passed at windowed, 0 rerun at full" "$tmp/a.log" &&
+if [ $rc -eq 0 ] && grep -q "^sweep: --accuracy-change 50pt: 3 points passed at windowed, 0 with more windows, 0 rerun at full" "$tmp/a.log" &&
    [ "$(wc -l < "$d/full/jobs.tsv")" -eq 1 ] && [ -z "$(ls "$d/full/results")" ] &&
+   [ "$(wc -l < "$d/more/jobs.tsv")" -eq 1 ] && [ -z "$(ls "$d/more/results")" ] &&
    python3 - "$d" <<'PY'
 import csv, sys
 d = sys.argv[1]
@@ -67,7 +74,8 @@ else fail sweep_accuracy_change_generous_no_rerun "exit $rc: $(tail -3 "$tmp/a.l
 "$sweep" "${grid[@]}" --out "$tmp/full" -- --bounces 1 >"$tmp/full.log" 2>&1
 acc 0.001pt >"$tmp/b.log" 2>&1; rc=$?
 cp "$d/changes.csv" "$tmp/b.csv"
-if [ $rc -eq 0 ] && grep -q "^sweep: --accuracy-change 0.001pt: 0 points passed at windowed, 3 rerun at full (baselines: 1)" "$tmp/b.log" &&
+if [ $rc -eq 0 ] && grep -q "^sweep: --accuracy-change 0.001pt: 0 points passed at windowed, 0 with more windows, 3 rerun at full (baselines: 1)" "$tmp/b.log" &&
+   [ "$(wc -l < "$d/more/jobs.tsv")" -eq 1 ] &&
    python3 - "$d" "$tmp/full" <<'PY'
 import csv, json, sys
 sys.path.insert(0, "scripts")
@@ -93,8 +101,66 @@ if cmp -s "$d/changes.csv" "$tmp/b.csv" && ! grep -q "done in" "$tmp/b2.log" &&
    [ -z "$(find "$d" -name '*.tmp.*')" ]; then pass sweep_accuracy_change_deterministic_resumed
 else fail sweep_accuracy_change_deterministic_resumed "$(diff "$d/changes.csv" "$tmp/b.csv" | head -3 | tr '\n' ' ')"; fi
 
-# P between the two points' widest half-widths: only the wider point and the
-# baseline at full; the narrower keeps its paired windowed change
+# P just under the wider point's widest half-width (and over the narrower's):
+# the wider point and the baseline with more windows of the same size; its
+# change the paired one of those two runs when within P, else both at full
+p=$(python3 - "$d/paired.csv" <<'PY'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))[1:]
+w = sorted(max(float(r[f + "_change_err_pt"]) for f in ("mrps", "dram_mb", "energy_mj")) for r in rows)
+print("%.6fpt" % max(w[1] * 0.98, (w[0] + w[1]) / 2) if w[1] - w[0] > 1e-3 else "")
+PY
+)
+if [ -z "$p" ]; then echo "SKIP sweep_accuracy_change_more_windows: the two points' half-widths are equal"
+else
+  acc "$p" >"$tmp/m.log" 2>&1; rc=$?
+  if [ $rc -eq 0 ] && grep -q "^sweep: running 2 points with more windows" "$tmp/m.log" &&
+     python3 - "$d" "$tmp/b.csv" "${p%pt}" <<'PY'
+import csv, json, sys
+sys.path.insert(0, "scripts")
+import paired
+d, b, p = sys.argv[1], sys.argv[2], float(sys.argv[3])
+rows = list(csv.DictReader(open(d + "/changes.csv")))
+pr = {r["point"]: r for r in csv.DictReader(open(d + "/paired.csv"))}
+full = {r["point"]: r for r in csv.DictReader(open(b))}
+err = lambda r: max(float(r[f + "_change_err_pt"]) for f in ("mrps", "dram_mb", "energy_mj"))
+narrow, wide = sorted(rows[1:], key=lambda r: err(pr[r["point"]]))
+jobs = [l.rstrip("\n").split("\t") for l in open(d + "/more/jobs.tsv")][1:]
+assert [j[6] for j in jobs] == [rows[0]["node_l1.size"], wide["node_l1.size"]], jobs
+mj = [json.load(open("%s/more/results/%s.json" % (d, j[0]))) for j in jobs]
+w0 = json.load(open("%s/results/%s.json" % (d, rows[0]["point"])))
+# more windows of the same size, in whole pairs, for both runs alike
+size = lambda j: (j["window.pixels"] + j["window.warm_pixels"])
+assert mj[0]["window.count"] == mj[1]["window.count"] > w0["window.count"] and mj[0]["window.count"] % 2 == 0
+assert abs(size(mj[0]) - size(w0)) <= 1, (size(mj[0]), size(w0))
+assert "--windows %d" % mj[0]["window.count"] in jobs[0][-1] and "--sample-rate" in jobs[0][-1]
+assert narrow["change_from"] == "windowed-paired"
+for f in ("mrps", "dram_mb", "energy_mj"):
+    assert narrow[f + "_change_pct"] == pr[narrow["point"]][f + "_change_pct"]
+more_err = max(paired.change(mj[0], mj[1], fg)[1] for fg in paired.FIGS)
+if more_err <= p:
+    assert wide["change_from"] == "windowed-more" and rows[0]["change_from"] == "windowed-more", (wide, rows[0])
+    for fg in paired.FIGS:
+        ch, e, _ = paired.change(mj[0], mj[1], fg)
+        assert wide[fg[0] + "_change_pct"] == "%.4f" % ch and wide[fg[0] + "_change_err_pt"] == "%.4f" % e
+else:
+    assert wide["change_from"] == "full" and rows[0]["change_from"] == "full", (wide, rows[0])
+    for f in ("mrps", "dram_mb", "energy_mj"):
+        assert wide[f + "_change_pct"] == full[wide["point"]][f + "_change_pct"]
+print("more windows: %d, half-width %.3f against P %.3f" % (mj[0]["window.count"], more_err, p), file=sys.stderr)
+PY
+  then pass sweep_accuracy_change_more_windows
+  else fail sweep_accuracy_change_more_windows "P $p, exit $rc: $(tail -3 "$tmp/m.log" | tr '\n' ' ')"; fi
+fi
+
+# P between the two points' widest half-widths at 0.4 of the frame (no room
+# for more windows): only the wider point and the baseline rerun at full;
+# the narrower keeps its paired windowed change
+d=$tmp/acc_room
+mkdir -p "$d/full/results"
+cp "$tmp/acc/full/results/"*.json "$d/full/results/"   # the same full points (the level's options left out)
+room() { "$sweep" "${grid[@]}" --out "$d" --accuracy-change "$1" -- --bounces 1 --sample-rate 0.4 --jobs 1; }
+room 50pt >"$tmp/r.log" 2>&1
 p=$(python3 - "$d/paired.csv" <<'PY'
 import csv, sys
 rows = list(csv.DictReader(open(sys.argv[1])))[1:]
@@ -104,18 +170,19 @@ PY
 )
 if [ -z "$p" ]; then echo "SKIP sweep_accuracy_change_mixed: the two points' half-widths are equal"
 else
-  acc "$p" >"$tmp/c.log" 2>&1; rc=$?
-  if [ $rc -eq 0 ] && ! grep -q "done in" "$tmp/c.log" && python3 - "$d" "$tmp/b.csv" <<'PY'
+  room "$p" >"$tmp/c.log" 2>&1; rc=$?
+  if [ $rc -eq 0 ] && grep -q "no room for more windows" "$tmp/c.log" &&
+     [ "$(wc -l < "$d/more/jobs.tsv")" -eq 1 ] && python3 - "$d" "$tmp/b.csv" <<'PY'
 import csv, sys
 d, b = sys.argv[1:3]
 rows = list(csv.DictReader(open(d + "/changes.csv")))
 pr = {r["point"]: r for r in csv.DictReader(open(d + "/paired.csv"))}
-full = {r["point"]: r for r in csv.DictReader(open(b))}
+full = {r["node_l1.size"]: r for r in csv.DictReader(open(b))}   # the same points at full
 err = lambda r: max(float(r[f + "_change_err_pt"]) for f in ("mrps", "dram_mb", "energy_mj"))
 narrow, wide = sorted(rows[1:], key=lambda r: err(pr[r["point"]]))
 assert rows[0]["change_from"] == "full" and wide["change_from"] == "full" and narrow["change_from"] == "windowed-paired"
 for f in ("mrps", "dram_mb", "energy_mj"):
-    assert wide[f + "_change_pct"] == full[wide["point"]][f + "_change_pct"]
+    assert wide[f + "_change_pct"] == full[wide["node_l1.size"]][f + "_change_pct"]
     assert narrow[f + "_change_pct"] == pr[narrow["point"]][f + "_change_pct"]
 PY
   then pass sweep_accuracy_change_mixed_group

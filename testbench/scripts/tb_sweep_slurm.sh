@@ -95,6 +95,6 @@ acc=(--set-grid node_l1.size=4096,65536 --scenes interior --rays diffuse --machi
 out=$("$sweep" --out "$tmp/acc-cluster" --slurm --wait "${acc[@]}" 2>&1); rc=$?
 check sweep_slurm_accuracy_change_exit_0 test $rc -eq 0
 check sweep_slurm_accuracy_change_two_arrays test "$(grep -c '^sweep: submitting .*sweep.sbatch and waiting' <<< "$out")" -eq 2
-check sweep_slurm_accuracy_change_reruns grep -q "0 points passed at windowed, 2 rerun at full" <<< "$out"
+check sweep_slurm_accuracy_change_reruns grep -q "0 points passed at windowed, 0 with more windows, 2 rerun at full" <<< "$out"
 check sweep_slurm_accuracy_change_csv_equals_local cmp "$tmp/acc-cluster/changes.csv" "$tmp/acc-local/changes.csv"
 [ $started = 0 ] || echo "# stopped the cluster this test started" >&2

@@ -18,6 +18,26 @@ double fid_t95(int dof)
     return dof <= 60 ? 2.000 : 1.960;
 }
 
+double fid_spread_low95(int dof)
+{
+    /* upper 5% points of chi-square (any statistics table): the spread s of
+     * dof degrees of freedom is at least s sqrt(dof / chi2) with 95%
+     * confidence; beyond the table, Wilson and Hilferty's approximation */
+    static const double c[] = {3.841,  5.991,  7.815,  9.488,  11.070, 12.592, 14.067, 15.507, 16.919, 18.307,
+                               19.675, 21.026, 22.362, 23.685, 24.996, 26.296, 27.587, 28.869, 30.144, 31.410,
+                               32.671, 33.924, 35.172, 36.415, 37.652, 38.885, 40.113, 41.337, 42.557, 43.773};
+    if (dof < 1)
+        dof = 1;
+    double k = dof, q;
+    if (dof <= 30)
+        q = c[dof - 1];
+    else {
+        double a = 2.0 / (9.0 * k), b = 1.0 - a + 1.6449 * sqrt(a);
+        q = k * b * b * b;
+    }
+    return sqrt(k / q);
+}
+
 double fid_dot(const double beta[FID_EST_AUX], const double x[FID_EST_AUX])
 {
     double v = 0;

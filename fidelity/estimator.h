@@ -16,6 +16,11 @@ enum { FID_EST_AUX = 4 };   /* auxiliary figures per window (windowed.h FID_AUX_
 /* Student t, two-sided 95%, for dof degrees of freedom (>= 1; < 1 reads as 1). */
 double fid_t95(int dof);
 
+/* The lower one-sided 95% bound of a spread (standard deviation) measured
+ * with dof degrees of freedom, as a factor of the measured spread:
+ * sqrt(dof / chi2_0.95(dof)) (< 1; dof < 1 reads as 1). */
+double fid_spread_low95(int dof);
+
 /* beta . x over FID_EST_AUX figures. */
 double fid_dot(const double beta[FID_EST_AUX], const double x[FID_EST_AUX]);
 

@@ -4,7 +4,8 @@
 # and one diffuse workload (hairball 320x180, MBVH4), and of the windowed
 # level (made for large frames) on interior 1280x720, primary and diffuse,
 # and there --accuracy 2% (accuracy2: what a fallback to full costs over a
-# plain full run, a speedup under 1); median of RUNS (3) runs, one core
+# plain full run, a speedup under 1) and, on diffuse rays, --accuracy 5%
+# (accuracy5: where windowed's interval fits); median of RUNS (3) runs, one core
 # (--jobs 1), with the level's true MRPS error against full.
 #   bash bench/fidelity.sh [BUILD_DIR]
 # CSV (BUILD_DIR/bench/fidelity.csv): benchmark,ours_median_s,reference_median_s,ratio
@@ -31,13 +32,16 @@ printf '%-44s %10s %10s %9s %12s %8s\n' benchmark "host (s)" "full (s)" speedup 
 for w in "interior_640x360_primary fixed-mem,functional,sampled interior --res 640x360 --rays primary" \
          "hairball_320x180_diffuse fixed-mem,functional,sampled hairball --res 320x180 --rays diffuse" \
          "interior_1280x720_primary windowed,accuracy2 interior --res 1280x720 --rays primary" \
-         "interior_1280x720_diffuse windowed,accuracy2 interior --res 1280x720 --rays diffuse"; do
+         "interior_1280x720_diffuse windowed,accuracy2,accuracy5 interior --res 1280x720 --rays diffuse"; do
   set -- $w
   name=$1 levels=$2; shift 2
   run "$@"
   full=$med full_mrps=$mrps
   for lv in ${levels//,/ }; do
-    if [ "$lv" = accuracy2 ]; then run "$@" --accuracy 2% --jobs 1; else run "$@" --fidelity "$lv" --jobs 1; fi
+    case $lv in
+      accuracy*) run "$@" --accuracy "${lv#accuracy}%" --jobs 1 ;;
+      *) run "$@" --fidelity "$lv" --jobs 1 ;;
+    esac
     sp=$(awk -v o="$med" -v r="$full" 'BEGIN { printf "%.2f", (o > 0 ? r / o : 0) }')
     er=$(awk -v a="$mrps" -v b="$full_mrps" 'BEGIN { e = (a / b - 1) * 100; printf "%+.1f%%", e }')
     printf '%-44s %10.3f %10.3f %8sx %12s %8s\n' "${name}_$lv" "$med" "$full" "$sp" "$er" "$flag" >&2

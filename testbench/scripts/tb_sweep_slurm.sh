@@ -4,8 +4,9 @@
 # missing, root only). A sweep submitted as a job array plus a dependent merge
 # job merges into the same CSV as the local GNU parallel run; a resubmission
 # after losing two results runs exactly those two (sbatch --wait) and merges
-# the same CSV again; --accuracy-change with --slurm --wait runs its two
-# arrays and writes the local run's changes.csv. SKIPs, saying why, when no
+# the same CSV again; --accuracy-change with --slurm --wait runs its arrays
+# (windowed, then full; or windowed, then more windows) and writes the local
+# run's changes.csv. SKIPs, saying why, when no
 # cluster can be had. It runs in the release variant only (the Slurm path is
 # scripts, the same under ASan). Cost: ~7 s to start the cluster (+ the first
 # apt-get install), ~45 s of jobs.
@@ -97,4 +98,20 @@ check sweep_slurm_accuracy_change_exit_0 test $rc -eq 0
 check sweep_slurm_accuracy_change_two_arrays test "$(grep -c '^sweep: submitting .*sweep.sbatch and waiting' <<< "$out")" -eq 2
 check sweep_slurm_accuracy_change_reruns grep -q "0 points passed at windowed, 0 with more windows, 2 rerun at full" <<< "$out"
 check sweep_slurm_accuracy_change_csv_equals_local cmp "$tmp/acc-cluster/changes.csv" "$tmp/acc-local/changes.csv"
+# ... and with P just under the point's half-width: the point and its
+# baseline rerun with more windows as one array of their own (DIR/more), the
+# windowed results reused, nothing at full; the same changes.csv as locally
+p=$(python3 - "$tmp/acc-local/paired.csv" <<'PY'
+import csv, sys
+r = list(csv.DictReader(open(sys.argv[1])))[1]
+print("%.6fpt" % (0.98 * max(float(r[f + "_change_err_pt"]) for f in ("mrps", "dram_mb", "energy_mj"))))
+PY
+)
+"$sweep" --jobs 1 --out "$tmp/acc-local" "${acc[@]/0.001pt/$p}" > "$tmp/acc-local-more.out" 2>&1
+out=$("$sweep" --out "$tmp/acc-cluster" --slurm --wait "${acc[@]/0.001pt/$p}" 2>&1); rc=$?
+check sweep_slurm_accuracy_change_more_exit_0 test $rc -eq 0
+check sweep_slurm_accuracy_change_more_one_array test "$(grep '^sweep: submitting' <<< "$out")" = \
+  "sweep: submitting $tmp/acc-cluster/more/sweep.sbatch and waiting for it"
+check sweep_slurm_accuracy_change_more_reruns grep -q "0 points passed at windowed, 2 with more windows, 0 rerun at full" <<< "$out"
+check sweep_slurm_accuracy_change_more_csv_equals_local cmp "$tmp/acc-cluster/changes.csv" "$tmp/acc-local/changes.csv"
 [ $started = 0 ] || echo "# stopped the cluster this test started" >&2

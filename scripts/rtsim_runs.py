@@ -258,11 +258,9 @@ def sweep_plan(dir, rtsim, cwd, scenes, rays, machines, res, grid, fixed_sets, r
                         seen.add(name)
                         lines.append("\t".join([name, s, r, m, res, fixed] + vals + [extra]))
     write_jobs(dir, "\n".join(lines) + "\n")
-    tmp = os.path.join(dir, ".sweep.conf.%d" % os.getpid())
-    with open(tmp, "w") as f:
-        f.write("rtsim %s\ncwd %s\n" % (rtsim, cwd) + "".join("stat %s\n" % st for st in stats) +
-                ("baseline %s\n" % baseline if baseline else ""))
-    os.replace(tmp, os.path.join(dir, "sweep.conf"))
+    write_atomic(os.path.join(dir, "sweep.conf"),
+                 "rtsim %s\ncwd %s\n" % (rtsim, cwd) + "".join("stat %s\n" % st for st in stats) +
+                 ("baseline %s\n" % baseline if baseline else ""))
 
 
 def _sweep_die(msg):

@@ -49,6 +49,19 @@ d=$tmp/acc
 # 0.3 of the pixels: room for 4/3 the windows (at most 0.4 of the frame)
 acc() { "$sweep" "${grid[@]}" --out "$d" --accuracy-change "$1" -- --bounces 1 --sample-rate 0.3 --jobs 1; }
 
+# p_between PAIRED.CSV mid|under_wide: a P between the two non-baseline
+# points' widest half-widths (mid: half-way; under_wide: just under the
+# wider one, at least half-way), empty when the two are equal
+p_between() {
+  python3 - "$1" "$2" <<'PY'
+import csv, sys
+rows = list(csv.DictReader(open(sys.argv[1])))[1:]
+w = sorted(max(float(r[f + "_change_err_pt"]) for f in ("mrps", "dram_mb", "energy_mj")) for r in rows)
+mid = (w[0] + w[1]) / 2
+print("%.6fpt" % (max(w[1] * 0.98, mid) if sys.argv[2] == "under_wide" else mid) if w[1] - w[0] > 1e-3 else "")
+PY
+}
+
 # (a) a generous P: nothing rerun, every change the paired windowed one
 acc 50pt >"$tmp/a.log" 2>&1; rc=$?
 if [ $rc -eq 0 ] && grep -q "^sweep: --accuracy-change 50pt: 3 points passed at windowed, 0 with more windows, 0 rerun at full" "$tmp/a.log" &&
@@ -104,13 +117,7 @@ else fail sweep_accuracy_change_deterministic_resumed "$(diff "$d/changes.csv" "
 # P just under the wider point's widest half-width (and over the narrower's):
 # the wider point and the baseline with more windows of the same size; its
 # change the paired one of those two runs when within P, else both at full
-p=$(python3 - "$d/paired.csv" <<'PY'
-import csv, sys
-rows = list(csv.DictReader(open(sys.argv[1])))[1:]
-w = sorted(max(float(r[f + "_change_err_pt"]) for f in ("mrps", "dram_mb", "energy_mj")) for r in rows)
-print("%.6fpt" % max(w[1] * 0.98, (w[0] + w[1]) / 2) if w[1] - w[0] > 1e-3 else "")
-PY
-)
+p=$(p_between "$d/paired.csv" under_wide)
 if [ -z "$p" ]; then echo "SKIP sweep_accuracy_change_more_windows: the two points' half-widths are equal"
 else
   acc "$p" >"$tmp/m.log" 2>&1; rc=$?
@@ -161,13 +168,7 @@ mkdir -p "$d/full/results"
 cp "$tmp/acc/full/results/"*.json "$d/full/results/"   # the same full points (the level's options left out)
 room() { "$sweep" "${grid[@]}" --out "$d" --accuracy-change "$1" -- --bounces 1 --sample-rate 0.4 --jobs 1; }
 room 50pt >"$tmp/r.log" 2>&1
-p=$(python3 - "$d/paired.csv" <<'PY'
-import csv, sys
-rows = list(csv.DictReader(open(sys.argv[1])))[1:]
-w = sorted(max(float(r[f + "_change_err_pt"]) for f in ("mrps", "dram_mb", "energy_mj")) for r in rows)
-print("%.6fpt" % ((w[0] + w[1]) / 2) if w[1] - w[0] > 1e-3 else "")
-PY
-)
+p=$(p_between "$d/paired.csv" mid)
 if [ -z "$p" ]; then echo "SKIP sweep_accuracy_change_mixed: the two points' half-widths are equal"
 else
   room "$p" >"$tmp/c.log" 2>&1; rc=$?

@@ -34,7 +34,6 @@ typedef struct fn_state {
     rt_trv_params tp;
     rtsim_frame frame;
     cache_core *l1[FID_MAX_TRV], *l2, *prim;
-    int64_t now_l1[FID_MAX_TRV], now_l2, now_prim;
     dram_spec spec;
     dram_addrmap map;
     uint32_t *open_row;           /* per (channel, rank, bank); UINT32_MAX = closed */
@@ -114,43 +113,28 @@ static void dram_read(fn_state *st, uint64_t addr, uint32_t bytes)
     }
 }
 
-/* Serves every queued miss of c at once from below (next = NULL: DRAM). */
-static void fill_misses(fn_state *st, cache_core *c, int64_t now, cache_core *next, int64_t *next_now)
+/* An access through cache c (cache_core_touch: its misses filled at once),
+ * each missing line read from next (NULL: DRAM). */
+static void touch(fn_state *st, cache_core *c, uint64_t addr, uint32_t bytes, cache_core *next)
 {
-    mem_req q;
-    while (cache_core_pop_miss(c, &q)) {
-        if (next) {
-            cache_result r;
-            while ((r = cache_core_access(next, q.addr, q.bytes, *next_now)) == CACHE_BLOCKED)
-                *next_now += 1;
-            *next_now += 1;
-            if (r == CACHE_MISS)
-                fill_misses(st, next, *next_now, NULL, NULL);
-        } else {
-            dram_read(st, q.addr, q.bytes);
-        }
-        mem_resp resp = {q.addr, q.bytes, q.src, 0, q.tag};
-        cache_core_fill(c, &resp, now);
+    uint64_t missed[CACHE_MAX_LINES_PER_ACCESS];
+    const int n = cache_core_touch(c, addr, bytes, missed);
+    const uint32_t line = cache_core_get_params(c)->line_bytes;
+    for (int i = 0; i < n; i++) {
+        if (next)
+            touch(st, next, missed[i], line, NULL);
+        else
+            dram_read(st, missed[i], line);
     }
 }
 
 /* One access of a ray through its caches. */
 static void do_access(fn_state *st, const fn_access *a, uint32_t trv)
 {
-    cache_core *c = a->is_tri ? st->prim : st->l1[trv];
-    int64_t *now = a->is_tri ? &st->now_prim : &st->now_l1[trv];
-    uint32_t bytes = a->is_tri ? RT_TRI_BYTES : st->img->node_bytes;
-    cache_result r;
-    /* ports and banks are per cycle: each access gets cycles of its own */
-    while ((r = cache_core_access(c, a->addr, bytes, *now)) == CACHE_BLOCKED)
-        *now += 1;
-    *now += cache_core_last_access_cycles(c) + 1;
-    if (r == CACHE_MISS) {
-        if (a->is_tri)
-            fill_misses(st, c, *now, NULL, NULL);
-        else
-            fill_misses(st, c, *now, st->l2, &st->now_l2);
-    }
+    if (a->is_tri)
+        touch(st, st->prim, a->addr, RT_TRI_BYTES, NULL);
+    else
+        touch(st, st->l1[trv], a->addr, st->img->node_bytes, st->l2);
 }
 
 static int make_cache(const rtcfg *cfg, const char *section, cache_core **out, char *err, size_t errlen)

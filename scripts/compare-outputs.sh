@@ -13,8 +13,9 @@
 # BIN_A and BIN_B are folders holding rtsim, rttrace and rtdram (for example
 # a build of the old commit in a git worktree and build/bin). The set covers
 # every built-in scene, both machines, both ray types, LPDDR3 and fixed
-# memory, VCD and heatmaps, rttrace JSON and logs, rtdram JSON and command
-# traces (about 30 runs at small resolutions, a minute or two).
+# memory, the fidelity levels and --accuracy, VCD and heatmaps, rttrace JSON
+# and logs, rtdram JSON and command traces (about 50 runs at small
+# resolutions, a minute or two).
 #
 # What is compared: summaries on stdout, JSON, VCD, heatmaps, trace logs and
 # command traces, byte for byte, except what measures the host rather than
@@ -113,6 +114,23 @@ run rtsim-vcd-mbvh4 rtsim interior --machine mbvh4 --res 32x18 --vcd @OUT@/run.v
 run rtsim-vcd-bvh2 rtsim city --machine bvh2 --res 32x18 --vcd @OUT@/run.vcd --vcd-window 100:3000
 run rtsim-heatmap rtsim forest --res 32x18 --heatmap @OUT@/cycles.png --json @OUT@/stats.json
 run rtsim-autosize rtsim interior --res 16x9 --autosize-fifos @OUT@/sized.ini
+# the fidelity levels (their functional pass, lattice, windows and --accuracy's
+# choice) at a size the windowed plan fits
+for scene in interior hairball; do
+  for machine in bvh2 mbvh4; do
+    for level in functional sampled windowed; do
+      run "rtsim-$scene-$machine-$level" rtsim $scene --machine $machine --rays diffuse --bounces 2 \
+          --res 320x180 --fidelity $level --json @OUT@/stats.json
+    done
+    run "rtsim-$scene-$machine-accuracy" rtsim $scene --machine $machine --rays diffuse --bounces 2 \
+        --res 320x180 --accuracy 5% --json @OUT@/stats.json
+  done
+done
+# --accuracy through windowed's probe, pilot and plan (small caches turn over)
+for acc in 5% 10%; do
+  run "rtsim-accuracy-$acc" rtsim interior --res 800x450 --rays diffuse --bounces 1 --set node_l2.size=32K \
+      --set prim.size=32K --accuracy $acc --json @OUT@/stats.json
+done
 for scene in interior hairball; do
   for bvh in bvh2 mbvh4; do
     run "rttrace-$scene-$bvh" rttrace $scene --bvh $bvh --rays diffuse --res 32x18 \

@@ -619,15 +619,9 @@ bool cache_core_pop_miss(cache_core *c, mem_req *out)
     return true;
 }
 
-int cache_core_fill(cache_core *c, const mem_resp *resp, int64_t now)
+/* Installs line in its set (set): an invalid way, else the LRU way. */
+static inline void install_line(cache_core *c, uint64_t line, uint32_t set)
 {
-    (void)now;
-    uint64_t line = line_of(c, resp->addr);
-    if (resp->tag >= c->p.mshrs || !c->m[resp->tag].busy || c->m[resp->tag].line != line)
-        return -1;
-    mshr *m = &c->m[resp->tag];
-    /* install: an invalid way, else the LRU way */
-    const uint32_t set = set_of(c, line);
     size_t base = (size_t)set * c->p.ways, victim = base;
     for (uint32_t w = 0; w < c->p.ways; w++) {
         size_t i = base + w;
@@ -644,6 +638,62 @@ int cache_core_fill(cache_core *c, const mem_resp *resp, int64_t now)
     c->stamp[victim] = ++c->clock;
     c->st.fills++;
     c->st.bytes_filled += c->p.line_bytes;
+}
+
+int cache_core_touch(cache_core *c, uint64_t addr, uint32_t bytes, uint64_t missed[CACHE_MAX_LINES_PER_ACCESS])
+{
+    const uint64_t first = line_of(c, addr), last = line_of(c, addr + (bytes ? bytes : 1) - 1);
+    c->st.accesses++;
+    if (first == last) {   /* every node access: one line */
+        const int w = lookup(c, first);
+        if (w >= 0) {
+            c->stamp[w] = ++c->clock;
+            c->st.hits++;
+            return 0;
+        }
+        c->st.misses++;
+        c->st.miss_lines++;
+        install_line(c, first, set_of(c, first));
+        missed[0] = addr_of(c, first);
+        return 1;
+    }
+    const int n = (int)(last - first + 1);
+    if (n > MAX_LINES_PER_ACCESS) {
+        fprintf(stderr, "cache: access of %u bytes spans %d lines (at most %d)\n", bytes, n, MAX_LINES_PER_ACCESS);
+        abort();
+    }
+    /* as accept_lines: the present lines' stamps first, then the fills */
+    int way[MAX_LINES_PER_ACCESS], nmiss = 0;
+    for (int i = 0; i < n; i++)
+        if ((way[i] = lookup(c, first + (uint64_t)i)) >= 0)
+            c->stamp[way[i]] = ++c->clock;
+    for (int i = 0; i < n; i++)
+        nmiss += way[i] < 0;
+    if (!nmiss) {
+        c->st.hits++;
+        return 0;
+    }
+    c->st.misses++;
+    int take = nmiss < (int)c->p.mshrs ? nmiss : (int)c->p.mshrs, k = 0;
+    for (int i = 0; i < n && k < take; i++)
+        if (way[i] < 0) {
+            const uint64_t line = first + (uint64_t)i;
+            c->st.miss_lines++;
+            install_line(c, line, set_of(c, line));
+            missed[k++] = addr_of(c, line);
+        }
+    return k;
+}
+
+int cache_core_fill(cache_core *c, const mem_resp *resp, int64_t now)
+{
+    (void)now;
+    uint64_t line = line_of(c, resp->addr);
+    if (resp->tag >= c->p.mshrs || !c->m[resp->tag].busy || c->m[resp->tag].line != line)
+        return -1;
+    mshr *m = &c->m[resp->tag];
+    const uint32_t set = set_of(c, line);
+    install_line(c, line, set);
     int released = 0;
     for (int i = 0; i < m->nwait; i++) {
         waiter *w = &c->w[m->wait[i]];

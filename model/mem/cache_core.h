@@ -129,6 +129,16 @@ bool cache_core_pop_miss(cache_core *c, mem_req *out);
  * addr), evicting the set's LRU line if needed; frees the MSHR. Returns the
  * number of waiters that became ready, or -1 if resp matches no MSHR. */
 int cache_core_fill(cache_core *c, const mem_resp *resp, int64_t now);
+/* The functional levels' access (fidelity/functional.h: no timing, every
+ * miss filled at once): what cache_core_access and a cache_core_fill of each
+ * queued miss do to an idle cache, without its ports, banks and MSHRs.
+ * Present lines become MRU; the missing ones are installed in order (at
+ * most `mshrs` of them, as many as an idle cache's MSHRs take), each
+ * evicting its set's LRU line. The same contents and the same counts
+ * (accesses, hits, misses, miss_lines, fills, evictions, bytes_filled) as
+ * that sequence; the miss hook is not called. missed: the installed lines'
+ * first bytes, for the next level. Returns how many (0: a hit). */
+int cache_core_touch(cache_core *c, uint64_t addr, uint32_t bytes, uint64_t missed[CACHE_MAX_LINES_PER_ACCESS]);
 /* Waiting requests whose lines are all present now, in completion order. */
 bool cache_core_pop_ready(cache_core *c, mem_req *out);
 

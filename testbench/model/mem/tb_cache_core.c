@@ -3,7 +3,8 @@
  * sequences against a simple reference model (an explicit MRU..LRU list per
  * set, a list of pending lines) that must agree on every result, every popped
  * miss, every line's presence and the statistics; the same for an
- * index-addressed cache of 96 B and 160 B node words (non-power-of-two sets). */
+ * index-addressed cache of 96 B and 160 B node words (non-power-of-two sets);
+ * the functional levels' access (cache_core_touch) against access-then-fill. */
 #include "model/mem/cache_core.h"
 #include "testbench/tb.h"
 
@@ -656,6 +657,64 @@ static void run_random(uint32_t size, uint32_t line, uint32_t ways, uint32_t ban
     run_random_addressed(size, line, ways, banks, ports, mshrs, merge, requests, ops, 0);
 }
 
+/* cache_core_touch (the functional levels' access) against what it stands
+ * for: cache_core_access, retried a cycle later while BLOCKED, then every
+ * queued miss popped and filled at once. On random accesses of one to three
+ * lines both cores must give the same missed lines in the same order, the
+ * same counts and, line by line, the same contents (so the same LRU order
+ * behind them). */
+static void run_touch_vs_access(uint32_t size, uint32_t line, uint32_t ways, uint32_t banks, uint32_t ports,
+                                uint32_t mshrs, int ops, uint32_t index_addressed)
+{
+    char name[160];
+    snprintf(name, sizeof name, "touch_as_access_then_fill_%s%uB_%uB_%uway_%ubank_%umshr", index_addressed ? "index_" : "",
+             size, line, ways, banks, mshrs);
+    tb_begin(name);
+    cache_core *a = mk_addressed(size, line, ways, banks, ports, mshrs, 4, index_addressed);
+    cache_core *b = mk_addressed(size, line, ways, banks, ports, mshrs, 4, index_addressed);
+    const uint32_t pool = 3 * size / line;
+    int64_t now = 0;
+    for (int op = 0; op < ops && !tb_case_failed; op++) {
+        uint64_t addr = (uint64_t)rnd(pool) * line + rnd(line);
+        uint32_t bytes = 1 + rnd(2 * line);
+        cache_result r;
+        while ((r = cache_core_access(a, addr, bytes, now)) == CACHE_BLOCKED)
+            now++;
+        now++;
+        uint64_t want[CACHE_MAX_LINES_PER_ACCESS], got[CACHE_MAX_LINES_PER_ACCESS];
+        int nwant = 0;
+        mem_req q;
+        while (cache_core_pop_miss(a, &q)) {
+            want[nwant++] = q.addr;
+            mem_resp resp = {q.addr, q.bytes, q.src, 0, q.tag};
+            cache_core_fill(a, &resp, now);
+        }
+        const int ngot = cache_core_touch(b, addr, bytes, got);
+        TB_CHECK(ngot == nwant && (r == CACHE_HIT) == (ngot == 0), "op %d (0x%llx, %u B): %d lines missed, want %d",
+                 op, (unsigned long long)addr, bytes, ngot, nwant);
+        for (int i = 0; i < ngot && i < nwant; i++)
+            TB_CHECK(got[i] == want[i], "op %d: missed line %d at 0x%llx, want 0x%llx", op, i,
+                     (unsigned long long)got[i], (unsigned long long)want[i]);
+    }
+    cache_stats sa, sb;
+    cache_core_get_stats(a, &sa);
+    cache_core_get_stats(b, &sb);
+    TB_CHECK(sa.accesses == sb.accesses && sa.hits == sb.hits && sa.misses == sb.misses &&
+                 sa.miss_lines == sb.miss_lines && sa.fills == sb.fills && sa.evictions == sb.evictions &&
+                 sa.bytes_filled == sb.bytes_filled,
+             "counts differ: accesses %llu/%llu hits %llu/%llu miss lines %llu/%llu evictions %llu/%llu",
+             (unsigned long long)sa.accesses, (unsigned long long)sb.accesses, (unsigned long long)sa.hits,
+             (unsigned long long)sb.hits, (unsigned long long)sa.miss_lines, (unsigned long long)sb.miss_lines,
+             (unsigned long long)sa.evictions, (unsigned long long)sb.evictions);
+    TB_CHECK(sb.misses > 0 && sb.evictions > 0 && sb.hits > 0, "the sequence exercised hits, misses and evictions");
+    for (uint32_t l = 0; l < pool; l++)
+        TB_CHECK(cache_core_contains(a, (uint64_t)l * line) == cache_core_contains(b, (uint64_t)l * line),
+                 "line %u present in one core only", l);
+    cache_core_destroy(a);
+    cache_core_destroy(b);
+    tb_end();
+}
+
 /* cache_core_bytes: what a copy of a core costs (the windowed level's
  * snapshots are refused beyond a budget): at least a tag and a stamp per
  * way, growing with the ways and the MSHRs as their arrays do. */
@@ -699,5 +758,9 @@ int main(void)
     run_random_addressed(1024, 96, 2, 1, 1, 4, 64, false, ops, 1);
     run_random_addressed(2048, 96, 2, 2, 2, 8, 3, true, ops, 1);
     run_random_addressed(4096, 160, 4, 1, 1, 16, 2, true, ops, 1);
+    run_touch_vs_access(1024, 64, 4, 2, 1, 8, ops, 0);
+    run_touch_vs_access(2048, 32, 2, 1, 2, 1, ops, 0); /* one MSHR: only a two-line access's first line */
+    run_touch_vs_access(4096, 128, 8, 4, 1, 16, ops, 0);
+    run_touch_vs_access(2048, 96, 2, 2, 1, 8, ops, 1);
     return tb_finish();
 }

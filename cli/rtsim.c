@@ -597,12 +597,16 @@ static int run_fidelity(job *j)
                    "%.2fx the wall time\n",
                    (unsigned long long)workers, (unsigned long long)o->jobs, worker_s,
                    host_s > 0 ? cpu_s / host_s : 0.0);
+        fid_print_steps(&fo.res, stdout);
     }
     if (o->json && (rc == 0 || fo.top)) {
         char jhead[4096];
         fid_json_strings(&fo.res, jhead, sizeof jhead);
         j->run->has_sim = true, j->run->sim_cpu_s = cpu_s, j->run->sim_wall_s = host_s;
         j->run->has_workers = true, j->run->jobs = o->jobs, j->run->workers = workers, j->run->worker_cpu_s = worker_s;
+        for (int i = 0; i < fo.res.nsteps && i < CLI_RUN_MAX_STEPS; i++)
+            j->run->step_name[i] = fo.res.steps[i].name, j->run->step_cpu_s[i] = fo.res.steps[i].cpu_s;
+        j->run->nsteps = fo.res.nsteps < CLI_RUN_MAX_STEPS ? fo.res.nsteps : CLI_RUN_MAX_STEPS;
         if (write_json(fid_outcome_stats(&fo), j->run, jhead, j->outs[0].out, NULL, j->err, sizeof j->err)) {
             fprintf(stderr, "rtsim: %s\n", j->err);
             rc = rc ? rc : 2;

@@ -36,6 +36,8 @@
 
 #include "config/config.h"
 
+#define CLI_RUN_MAX_STEPS 8
+
 typedef struct cli_run_info {
     const char *tool;             /* "rtsim" */
     int argc;
@@ -67,6 +69,11 @@ typedef struct cli_run_info {
     bool has_workers;
     uint64_t jobs, workers;
     double worker_cpu_s;
+    /* rtsim --accuracy: the steps it ran and the CPU seconds of each (the
+     * last is the level picked; nsteps 0: not asked) */
+    int nsteps;
+    const char *step_name[CLI_RUN_MAX_STEPS];
+    double step_cpu_s[CLI_RUN_MAX_STEPS];
 } cli_run_info;
 
 /* Seconds on a host clock (CLOCK_MONOTONIC, CLOCK_PROCESS_CPUTIME_ID). */

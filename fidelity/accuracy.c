@@ -69,8 +69,39 @@ static void windowed_need(const double *ci, const double *other, const double *b
  *      more windows when the interval says at most twice the windows will
  *      do, within win_max_rate of the frame.
  * 0 and *picked when it meets acc; why: what it found otherwise. */
+/* The steps run so far and the CPU when the last one ended. */
+typedef struct acc_steps {
+    fid_step s[FID_MAX_STEPS];
+    int n;
+    double t;
+} acc_steps;
+
+/* The step that ran since the last one ended, of `cpu_s` (< 0: all of it). */
+static void step_add(acc_steps *st, const char *name, double cpu_s)
+{
+    const double now = fid_cpu_s();
+    if (cpu_s < 0)
+        cpu_s = now - st->t;
+    if (st->n < FID_MAX_STEPS)
+        st->s[st->n++] = (fid_step){name, cpu_s};
+    st->t += cpu_s;
+}
+
+static void set_steps(fid_outcome *o, const acc_steps *st)
+{
+    memcpy(o->res.steps, st->s, sizeof st->s);
+    o->res.nsteps = st->n;
+}
+
+/* The windowed pilot's step, split into its lattice and its windows. */
+static void step_pilot(acc_steps *st, const fid_windowed *wd)
+{
+    step_add(st, "windowed's lattice", wd->lattice_cpu_s);
+    step_add(st, "windowed's pilot windows", -1);
+}
+
 static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *picked, char *why, size_t whylen,
-                         char *err, size_t errlen)
+                         acc_steps *steps, char *err, size_t errlen)
 {
     const fid_params *fp = fid_params_get();
     fid_windowed wd = {0};
@@ -82,6 +113,7 @@ static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *p
     }
     double cold = 0, turnover = 0;
     int rc = fid_windowed_cold_probe(job, &cold, &turnover, err, errlen);
+    step_add(steps, "windowed's probe", -1);
     if (rc)
         return rc;
     if (turnover < fp->win_probe_min_turnover) {
@@ -127,6 +159,7 @@ static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *p
             if (!cold_flag)
                 windowed_need(ci, other, bias, acc, (double)wd.planned * (wd.window_pixels + wd.warm_pixels) / npix,
                               need, sizeof need);
+            step_pilot(steps, &wd);
             snprintf(why, whylen,
                      "windowed's pilot of %u windows (%.1f%% of the pixels through the model): %s %.1f%%%s%s",
                      wd.windows, 100.0 * wd.model_pixels / npix,
@@ -136,6 +169,7 @@ static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *p
             fid_windowed_free(&wd);
             return 0;
         }
+        step_pilot(steps, &wd);
         rc = fid_windowed_more(job, wd.planned, &wd, err, errlen);
     }
     for (int step = 0; rc == 0; step++) {
@@ -172,6 +206,7 @@ static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *p
             break;
         rc = fid_windowed_more(job, more, &wd, err, errlen);
     }
+    step_add(steps, "windowed's plan", -1);
     fid_windowed_free(&wd);
     return rc;
 }
@@ -197,10 +232,12 @@ int fid_accuracy_run(const fid_job *job, double acc, fid_outcome *o, char *err, 
      * full run (docs/fidelity.md). */
     double func_floor = fp->func_err_base, sample_floor = fp->sample_err_floor + fp->sample_err_dram;
     bool picked;
-    if ((rc = auto_windowed(job, acc, &trial, &picked, why, sizeof why, err, errlen)))
+    acc_steps steps = {.t = fid_cpu_s()};
+    if ((rc = auto_windowed(job, acc, &trial, &picked, why, sizeof why, &steps, err, errlen)))
         goto out;
     if (picked) {
         *o = trial;
+        set_steps(o, &steps);
         return 0;
     }
     if (fid_lv_fresh_trial(&trial, acc, err, errlen))
@@ -208,8 +245,10 @@ int fid_accuracy_run(const fid_job *job, double acc, fid_outcome *o, char *err, 
     if (acc >= func_floor) {
         if ((rc = fid_lv_functional(job, &trial, &ff, err, errlen)))
             goto out;
+        step_add(&steps, "functional", -1);
         if (!trial.res.unreliable && fid_lv_worst(&trial.res) <= acc) {
             *o = trial;
+            set_steps(o, &steps);
             snprintf(o->res.choice, sizeof o->res.choice,
                      "--accuracy %.3g%%: picked functional (estimated error %.1f%%)", 100 * acc, 100 * fid_lv_worst(&o->res));
             return 0;
@@ -232,9 +271,11 @@ int fid_accuracy_run(const fid_job *job, double acc, fid_outcome *o, char *err, 
             return 2;
         if ((rc = fid_lv_sampled(job, rate, &trial, &ff, err, errlen)))
             goto out;
+        step_add(&steps, attempt ? "sampled at the raised rate" : "sampled", -1);
         double w = fid_lv_worst(&trial.res);
         if (!trial.res.unreliable && w <= acc) {
             *o = trial;
+            set_steps(o, &steps);
             snprintf(o->res.choice, sizeof o->res.choice,
                      "--accuracy %.3g%%: picked sampled at %.2f%% of the pixels (estimated error %.1f%%; %s)",
                      100 * acc, 100 * rate, 100 * w, why);
@@ -251,6 +292,8 @@ int fid_accuracy_run(const fid_job *job, double acc, fid_outcome *o, char *err, 
     free(trial.own);
     trial.own = NULL;
     rc = fid_lv_full(job, o, err, errlen);
+    step_add(&steps, "full", -1);
+    set_steps(o, &steps);
     snprintf(o->res.choice, sizeof o->res.choice, "--accuracy %.3g%%: fell back to full (%s)", 100 * acc, why);
     return rc;
 out:

@@ -9,9 +9,11 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <time.h>
 
 #include "fidelity/fidelity_params.h"
 #include "fidelity/levels.h"
+#include "kernel/fork_pool.h"
 #include "kernel/json.h"
 
 static const char *const level_names[FID_LEVEL_COUNT] = {"full",    "fixed-mem", "functional",
@@ -100,6 +102,32 @@ void fid_print_summary(const fid_result *r, FILE *out)
         fprintf(out, "method      %s\n", r->detail);
     if (r->choice[0])
         fprintf(out, "accuracy    %s\n", r->choice);
+}
+
+double fid_cpu_s(void)
+{
+    struct timespec t;
+    double self = clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) == 0 ? (double)t.tv_sec + 1e-9 * (double)t.tv_nsec : 0;
+    return self + ks_pool_children_cpu_s();
+}
+
+void fid_print_steps(const fid_result *r, FILE *out)
+{
+    if (r->nsteps < 1)
+        return;
+    fprintf(out, "host        --accuracy's steps:");
+    double before = 0;
+    for (int i = 0; i < r->nsteps; i++) {
+        fprintf(out, "%s %s %.3f s", i ? "," : "", r->steps[i].name, r->steps[i].cpu_s);
+        if (i + 1 < r->nsteps)
+            before += r->steps[i].cpu_s;
+    }
+    const fid_step *last = &r->steps[r->nsteps - 1];
+    fprintf(out, " CPU");
+    /* a fallback: what the steps before the full run cost on top of it */
+    if (r->nsteps > 1 && r->level == FID_FULL)
+        fprintf(out, " (before full: %.3f s, %.1f%% of it)", before, last->cpu_s > 0 ? 100.0 * before / last->cpu_s : 0.0);
+    fputc('\n', out);
 }
 
 /* The level's JSON members; strings through the project's one escaping

@@ -49,6 +49,14 @@ bool fid_accuracy_parse(const char *s, double *fraction);
 
 /* What a result claims about itself. The error estimates are relative
  * (0.02 = 2%) bounds on |estimate - full model| / full model. */
+/* --accuracy's steps (a probe, a pilot, a level tried), each with the CPU
+ * seconds it took in this process and its worker processes (fid_cpu_s) */
+#define FID_MAX_STEPS 8
+typedef struct fid_step {
+    const char *name;             /* a string literal: "windowed's lattice", "full", ... */
+    double cpu_s;
+} fid_step;
+
 typedef struct fid_result {
     fid_level level;
     double err_mrps, err_dram_mb, err_energy_mj;
@@ -57,6 +65,8 @@ typedef struct fid_result {
     char detail[512];             /* how the figures were obtained (pilot, sample...) */
     char choice[768];             /* --accuracy: what was picked and why ("" otherwise) */
     double accuracy;              /* --accuracy target (fraction), 0 when not asked */
+    fid_step steps[FID_MAX_STEPS]; /* --accuracy: what it ran, in order, the last the level picked */
+    int nsteps;
 } fid_result;
 
 /* full: exact by definition. */
@@ -69,6 +79,13 @@ extern const ks_module_desc fid_module_desc;
 int fid_register_stats(fid_result *r, ks_stats *st);
 /* Summary lines: "fidelity    LEVEL ..." with estimates and flag. */
 void fid_print_summary(const fid_result *r, FILE *out);
+/* CPU seconds of this process and of its finished worker processes. */
+double fid_cpu_s(void);
+/* "host" line of --accuracy's steps and their CPU (nothing without steps):
+ *   host        --accuracy's steps: windowed's probe 0.136 s, ..., full 20.159 s CPU
+ *               (before full: 1.337 s, 6.6% of it)
+ * the part in parentheses only on a fallback to full. */
+void fid_print_steps(const fid_result *r, FILE *out);
 /* JSON members for the string fields, without braces, each line starting
  * with two spaces and ending with ",\n":
  *   "fidelity": "LEVEL", "unreliable_reason": "...", "fidelity_choice": "..." */

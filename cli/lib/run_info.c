@@ -217,6 +217,17 @@ void cli_run_write_member(FILE *f, const cli_run_info *ri, const char *sep)
     cli_run_json_real(&j, "sim_worker_cpu_s", ri->has_workers, ri->worker_cpu_s);
     cli_run_json_real(&j, "cycles_per_host_s", ri->has_sim && ri->has_cycles,
                       ri->sim_cpu_s > 0 ? (double)ri->cycles / ri->sim_cpu_s : 0.0);
+    cli_json_key(&j, "accuracy_steps");
+    if (ri->nsteps > 0) {
+        fputc('[', f);
+        for (int i = 0; i < ri->nsteps; i++) {
+            fputs(i ? ", {\"step\": " : "{\"step\": ", f);
+            ks_json_string(f, ri->step_name[i]);
+            fprintf(f, ", \"cpu_s\": %.6f}", ri->step_cpu_s[i]);
+        }
+        fputc(']', f);
+    } else
+        fputs("null", f);
     cli_json_str(&j, "date", ri->date[0] ? ri->date : NULL);
     fputs(sep[0] == '\n' ? "\n  }" : "}", f);
 }

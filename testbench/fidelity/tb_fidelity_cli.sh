@@ -348,6 +348,10 @@ PY
     if echo "$o_mid" | grep -q "^accuracy    --accuracy $t%: picked windowed, " &&
        echo "$o_low" | grep -q "windowed's pilot of 8 windows"; then pass fidelity_accuracy_pilot_grows_when_unsure
     else fail fidelity_accuracy_pilot_grows_when_unsure "pilot $pred%: $(echo "$o_mid $o_low" | grep -E '^accuracy' | tr '\n' ' ')"; fi
+    # the steps of a windowed pilot that gave up: its lattice apart from its windows
+    if echo "$o_low" | grep -q "^host        --accuracy's steps: windowed's probe [0-9.]* s, windowed's lattice [0-9.]* s, windowed's pilot windows [0-9.]* s, sampled "; then
+      pass fidelity_accuracy_steps_windowed_pilot
+    else fail fidelity_accuracy_steps_windowed_pilot "$(echo "$o_low" | grep -E '^host' | tr '\n' ' ')"; fi
   else fail fidelity_accuracy_pilot_grows_when_unsure "no pilot prediction: $(echo "$o_far" | grep -E '^accuracy')"; fi
 else
   echo "SKIP fidelity_windowed_within_estimate_1280x720, fidelity_windowed_unit_power_within_estimate (release build only: an 18 s full run)"
@@ -380,6 +384,24 @@ if echo "$out" | grep -q "^accuracy    --accuracy 40%: picked functional" && [ "
 else fail fidelity_accuracy_picks_cheap_level "$(echo "$out" | grep -E '^(fidelity|accuracy)' | tr '\n' ' ')"; fi
 if [ -n "$(field "$tmp/acc2.json" fidelity_choice)" ]; then pass fidelity_accuracy_choice_in_json
 else fail fidelity_accuracy_choice_in_json "empty fidelity_choice"; fi
+
+# --accuracy's steps and their CPU: what it tried before the level it
+# picked, in the summary's host lines and the JSON's run object (a plain
+# run has none). Sampled fails 5% here and full follows.
+out=$("$bin" interior --res 320x180 --rays diffuse --bounces 2 --accuracy 5% --json "$tmp/acc3.json" 2>&1)
+if python3 - "$tmp/acc3.json" "$tmp/full.json" "$tmp/acc2.json" <<'EOF' && echo "$out" | grep -q "^host        --accuracy's steps: sampled [0-9.]* s, full [0-9.]* s CPU (before full: [0-9.]* s, [0-9.]*% of it)$"
+import json, sys
+a, f, c = (json.load(open(p))["run"] for p in sys.argv[1:4])
+steps = a["accuracy_steps"]
+assert [s["step"] for s in steps] == ["sampled", "full"], steps
+assert all(s["cpu_s"] > 0 for s in steps), steps
+total = sum(s["cpu_s"] for s in steps)
+assert 0.8 * a["sim_cpu_s"] <= total <= a["sim_cpu_s"] + 1e-3, (total, a["sim_cpu_s"])
+assert f["accuracy_steps"] is None, f["accuracy_steps"]
+assert [s["step"] for s in c["accuracy_steps"]] == ["functional"], c["accuracy_steps"]
+EOF
+then pass fidelity_accuracy_steps_cpu
+else fail fidelity_accuracy_steps_cpu "$(echo "$out" | grep -E '^(accuracy|host)' | tr '\n' ' ')"; fi
 
 # --- bad usage ---------------------------------------------------------------
 expect fidelity_bad_level 2 "--fidelity fast: allowed values are full, fixed-mem, functional, sampled, windowed" -- "$bin" --fidelity fast

@@ -43,6 +43,18 @@ static const fid_params defaults = {
     .sample_t95 = 3.182,           /* Student t, 3 degrees of freedom, two-sided 95% */
     .sample_max_err = 0.10,
     .sample_err_floor = 0.01,
+    /* --accuracy's sampled: a second try at the rate the first interval
+     * says the target needs (1/sqrt(sample)) x 1.3, when at most 35% of the
+     * pixels (beyond, a full run costs little more). The frame's functional
+     * pass (about a quarter of a full run) only when it may pay: the
+     * groups' own functional passes predict the estimate without it,
+     * 0.60-1.26x the real one on the 1280x720 diffuse matrix (it misses the
+     * frame's phase excess), so a prediction over 1.25x the point where
+     * sampled would stop gives up before it
+     * (docs/validation/fidelity-accuracy.md) */
+    .sample_give_up = 1.25,
+    .sample_retry_margin = 1.3,
+    .sample_retry_max_rate = 0.35,
     /* hairball primary 640x360: functional DRAM MB 2.3% off on the frame,
      * 0.2% on the sample, so the ratio estimator is 2.3-2.6% off */
     .sample_err_dram = 0.025,      /* the worst excess over CI + bias term in the 320x180 matrix: 1.1% */

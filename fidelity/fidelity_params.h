@@ -35,6 +35,9 @@ typedef struct fid_params {
     double sample_t95;            /* Student t, 95%, sample_groups - 1 degrees of freedom */
     double sample_max_err;
     double sample_err_dram;       /* sampled: bias bound of the DRAM ratio estimator */
+    double sample_give_up;        /* --accuracy: sampled's frame pass is not run when its groups predict over this x the target */
+    double sample_retry_margin;   /* --accuracy: sampled's second rate, x this margin */
+    double sample_retry_max_rate; /* --accuracy: no second try of sampled beyond this rate */
     double sample_err_floor;      /* sampled: floor added to every estimate (bias of the ratio estimator) */        /* estimated error beyond which a sampled result is flagged */
     int band_rows;                /* rows per band of a sample */
     /* windowed */

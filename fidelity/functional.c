@@ -246,6 +246,29 @@ void fid_functional_retime(const fid_job *job, fid_func *f, double miss_scale)
     throughput(job, f);
 }
 
+static void add_cache(cache_stats *s, const cache_stats *f)
+{
+    s->accesses += f->accesses, s->hits += f->hits, s->misses += f->misses, s->miss_lines += f->miss_lines;
+    s->fills += f->fills, s->evictions += f->evictions, s->bytes_filled += f->bytes_filled;
+}
+
+void fid_functional_add(fid_func *sum, const fid_func *f)
+{
+    sum->ntrv = f->ntrv;
+    sum->rays += f->rays, sum->primaries += f->primaries, sum->bounces += f->bounces, sum->failed += f->failed;
+    sum->visits += f->visits, sum->box_tests += f->box_tests, sum->leaves += f->leaves, sum->tri_tests += f->tri_tests;
+    sum->pushes += f->pushes, sum->pops += f->pops, sum->culls += f->culls;
+    for (uint32_t i = 0; i < f->ntrv && i < FID_MAX_TRV; i++) {
+        sum->trv_visits[i] += f->trv_visits[i], sum->trv_leaves[i] += f->trv_leaves[i];
+        sum->trv_l1_miss_lines[i] += f->trv_l1_miss_lines[i];
+    }
+    add_cache(&sum->l1, &f->l1);
+    add_cache(&sum->l2, &f->l2);
+    add_cache(&sum->prim, &f->prim);
+    sum->dram_bytes += f->dram_bytes, sum->dram_lines += f->dram_lines, sum->row_hits += f->row_hits;
+    sum->phase_excess = 0;
+}
+
 int fid_functional_run(const fid_job *job, const uint32_t *pixels, uint32_t npix, fid_func *out, char *err,
                        size_t errlen)
 {

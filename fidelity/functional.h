@@ -90,5 +90,9 @@ void fid_functional_snap_free(fid_func_snap *s);
  * multiplied by miss_scale (sampled: fitted so that the functional cycles
  * of a sample match the cycle model's). */
 void fid_functional_retime(const fid_job *job, fid_func *f, double miss_scale);
+/* Adds f's counts (rays, work, cache accesses, hits, misses, fills, DRAM
+ * lines and row hits) to sum, as if one pass had made both; the throughput
+ * figures are left for fid_functional_retime, and phase_excess at 0. */
+void fid_functional_add(fid_func *sum, const fid_func *f);
 
 #endif

@@ -27,6 +27,11 @@ int fid_lv_fixed_mem(const fid_job *job, fid_outcome *o, char *err, size_t errle
 int fid_lv_functional(const fid_job *job, fid_outcome *o, fid_func *ff, char *err, size_t errlen);
 /* sampled at `rate`; reuses *ff when it holds the frame's pass */
 int fid_lv_sampled(const fid_job *job, double rate, fid_outcome *o, fid_func *ff, char *err, size_t errlen);
+/* the same for --accuracy: without *ff, the groups first; when they predict
+ * an error over give_up, the frame's pass is not run, *gave_up is set and
+ * the result is that prediction, flagged (level_sampled.c) */
+int fid_lv_sampled_or_give_up(const fid_job *job, double rate, double give_up, fid_outcome *o, fid_func *ff,
+                              bool *gave_up, char *err, size_t errlen);
 /* the full model (model_run.c) */
 int fid_lv_full(const fid_job *job, fid_outcome *o, char *err, size_t errlen);
 /* windowed at `rate` with `windows` windows (0: the defaults) */

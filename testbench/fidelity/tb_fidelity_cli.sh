@@ -403,6 +403,35 @@ EOF
 then pass fidelity_accuracy_steps_cpu
 else fail fidelity_accuracy_steps_cpu "$(echo "$out" | grep -E '^(accuracy|host)' | tr '\n' ' ')"; fi
 
+# sampled's frame pass only when it may pay: at 5% its groups predict an
+# error far over the point where it would stop (5% x 1.25 x sqrt(0.35 /
+# (6.25% x 1.3)) = 13.0%), so it gives up without the frame's functional
+# pass and full follows, with full's figures; at 14% the prediction lets
+# the frame pass run, and the pick's figures are --fidelity sampled's
+sa=(interior --res 320x180 --rays diffuse --bounces 2)
+out5=$("$bin" "${sa[@]}" --accuracy 5% --json "$tmp/sa5.json" 2>&1)
+"$bin" "${sa[@]}" --json "$tmp/sa_full.json" >/dev/null 2>&1
+pred=$(echo "$out5" | sed -n "s/^accuracy .*sampled at 6.25%: \([0-9.]*\)% predicted by its groups (the frame's functional pass not run))$/\1/p")
+if [ -n "$pred" ] && awk -v p="$pred" 'BEGIN { exit !(p > 12.97) }' && python3 - "$tmp/sa5.json" "$tmp/sa_full.json" <<'EOF2'
+import json, sys
+a, f = (json.load(open(p)) for p in sys.argv[1:3])
+assert a["fidelity"] == "full", a["fidelity"]
+for k in ("mrps", "dram_bytes", "energy_mj", "cycles"):
+    assert a[k] == f[k], (k, a[k], f[k])
+EOF2
+then pass fidelity_accuracy_sampled_gives_up_before_frame_pass
+else fail fidelity_accuracy_sampled_gives_up_before_frame_pass "$(echo "$out5" | grep -E '^accuracy')"; fi
+out14=$("$bin" "${sa[@]}" --accuracy 14% --json "$tmp/sa14.json" 2>&1)
+"$bin" "${sa[@]}" --fidelity sampled --json "$tmp/sa_sampled.json" >/dev/null 2>&1
+if echo "$out14" | grep -q "^accuracy    --accuracy 14%: picked sampled at 6.25% of the pixels" && python3 - "$tmp/sa14.json" "$tmp/sa_sampled.json" <<'EOF2'
+import json, sys
+a, s = (json.load(open(p)) for p in sys.argv[1:3])
+for k in ("mrps", "dram_bytes", "energy_mj", "cycles", "error_estimate.mrps", "error_estimate.dram_mb", "error_estimate.energy_mj"):
+    assert a[k] == s[k], (k, a[k], s[k])
+EOF2
+then pass fidelity_accuracy_sampled_groups_first_same_figures
+else fail fidelity_accuracy_sampled_groups_first_same_figures "$(echo "$out14" | grep -E '^accuracy')"; fi
+
 # --- bad usage ---------------------------------------------------------------
 expect fidelity_bad_level 2 "--fidelity fast: allowed values are full, fixed-mem, functional, sampled, windowed" -- "$bin" --fidelity fast
 expect fidelity_bad_accuracy 2 "--accuracy 0%: expected a percentage in (0, 100]" -- "$bin" --accuracy 0%

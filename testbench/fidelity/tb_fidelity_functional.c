@@ -103,6 +103,62 @@ static void check_attribution(const rt_scene *sc, const char *preset, bool diffu
     tb_end();
 }
 
+/* fid_functional_add: the counts of two passes add; and a pass added to
+ * itself has the pass's throughput (the figures are ratios of counts, but
+ * for the drain at the end), which is what lets sampled's groups, summed,
+ * stand in for the frame's pass (level_sampled.c). */
+static void check_add(const rt_scene *sc)
+{
+    char err[1024];
+    tb_begin("functional_add_counts_and_scale");
+    rt_bvh_image img;
+    rtcfg *cfg = machine_bvh(sc, "mbvh4", &img, err, sizeof err);
+    if (!TB_CHECK(cfg != NULL, "machine: %s", err)) {
+        rt_bvh_image_free(&img);
+        tb_end();
+        return;
+    }
+    /* big enough for the drain (one path's latency) to be small beside the run */
+    const uint32_t w = 320, h = 180;
+    static uint32_t even[320 * 90], odd[320 * 90];
+    uint32_t ne = 0, no = 0;
+    for (uint32_t p = 0; p < w * h; p++) {
+        if ((p / w) % 2)
+            odd[no++] = p;
+        else
+            even[ne++] = p;
+    }
+    fid_job job = {cfg, &sc->mesh, &sc->views.v[0], &img, w, h, true, 2, 1, 0, NULL, NULL, 1, 0, NULL, 0};
+    fid_func a, b;
+    if (TB_CHECK(fid_functional_run(&job, even, ne, &a, err, sizeof err) == 0, "run: %s", err) &&
+        TB_CHECK(fid_functional_run(&job, odd, no, &b, err, sizeof err) == 0, "run: %s", err)) {
+        fid_func sum, twice;
+        memset(&sum, 0, sizeof sum);
+        fid_functional_add(&sum, &a);
+        fid_functional_add(&sum, &b);
+        TB_EQ_INT(sum.rays, a.rays + b.rays);
+        TB_EQ_INT(sum.visits, a.visits + b.visits);
+        TB_EQ_INT(sum.tri_tests, a.tri_tests + b.tri_tests);
+        TB_EQ_INT(sum.trv_visits[1], a.trv_visits[1] + b.trv_visits[1]);
+        TB_EQ_INT(sum.l1.misses, a.l1.misses + b.l1.misses);
+        TB_EQ_INT(sum.l2.fills, a.l2.fills + b.l2.fills);
+        TB_EQ_INT(sum.prim.accesses, a.prim.accesses + b.prim.accesses);
+        TB_EQ_INT(sum.dram_bytes, a.dram_bytes + b.dram_bytes);
+        TB_EQ_INT(sum.row_hits, a.row_hits + b.row_hits);
+        memset(&twice, 0, sizeof twice);
+        fid_functional_add(&twice, &a);
+        fid_functional_add(&twice, &a);
+        fid_functional_retime(&job, &twice, 1.0);
+        TB_CHECK(a.mrps > 0 && fabs(twice.mrps / a.mrps - 1.0) < 0.01, "a pass added to itself: %.3f MRPS, alone %.3f",
+                 twice.mrps, a.mrps);
+        TB_CHECK(twice.dram_util > 0 && fabs(twice.dram_util / a.dram_util - 1.0) < 0.01,
+                 "DRAM utilisation %.4f, alone %.4f", twice.dram_util, a.dram_util);
+    }
+    rt_bvh_image_free(&img);
+    rtcfg_destroy(cfg);
+    tb_end();
+}
+
 /* Of pixels 0, 37, 74, ...: the one whose primary ray loads the TRVs most
  * against the IST (*trv_px) and the one that loads the IST most (*ist_px),
  * each traced alone. */
@@ -170,8 +226,10 @@ int main(void)
         }
         check_attribution(&sc, "mbvh4", true);
         check_attribution(&sc, "bvh2", false);
-        if (s == 0)
+        if (s == 0) {
             check_phases(&sc);
+            check_add(&sc);
+        }
         rt_scene_free(&sc);
     }
     return tb_finish();

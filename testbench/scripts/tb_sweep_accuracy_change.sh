@@ -14,7 +14,7 @@
 # and the baseline are rerun at full and the other keeps its windowed
 # change; the same inputs give the same changes.csv bytes; bad values and
 # combinations exit 2 naming the option.
-# The Slurm path (--slurm --wait) is in tb_sweep_slurm.sh.
+# The Slurm paths (--slurm, with and without --wait) are in tb_sweep_slurm.sh.
 set -u
 bin=${RTSIM_BIN:?}/rtsim
 tmp=${RTSIM_TMP:-/tmp}/tb_sweep_accuracy_change
@@ -33,10 +33,8 @@ expect sweep_accuracy_change_with_fidelity 2 "--accuracy-change picks the levels
   "$sweep" --accuracy-change 1pt --rtsim "$bin" --out "$tmp/u" -- --fidelity=sampled
 expect sweep_accuracy_change_with_accuracy 2 "drop --accuracy from the rtsim arguments" -- \
   "$sweep" --accuracy-change 1pt --rtsim "$bin" --out "$tmp/u" -- --accuracy 2%
-expect sweep_accuracy_change_with_slurm_script 2 "--accuracy-change with Slurm needs --slurm --wait" -- \
+expect sweep_accuracy_change_with_slurm_script 2 "--accuracy-change with Slurm needs --slurm (its reruns depend on the merged windowed results" -- \
   "$sweep" --accuracy-change 1pt --slurm-script --rtsim "$bin" --out "$tmp/u"
-expect sweep_accuracy_change_with_slurm_no_wait 2 "--accuracy-change with Slurm needs --slurm --wait" -- \
-  "$sweep" --accuracy-change 1pt --slurm --rtsim "$bin" --out "$tmp/u"
 check sweep_accuracy_change_bad_nothing_planned test ! -e "$tmp/u/jobs.tsv"
 
 if [ -n "${RTSIM_TB_SANITIZED:-}" ]; then

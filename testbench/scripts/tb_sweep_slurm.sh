@@ -6,10 +6,11 @@
 # after losing two results runs exactly those two (sbatch --wait) and merges
 # the same CSV again; --accuracy-change with --slurm --wait runs its arrays
 # (windowed, then full; or windowed, then more windows) and writes the local
-# run's changes.csv. SKIPs, saying why, when no
+# run's changes.csv, and so do its stages as jobs without --wait, each
+# submitting the next. SKIPs, saying why, when no
 # cluster can be had. It runs in the release variant only (the Slurm path is
 # scripts, the same under ASan). Cost: ~7 s to start the cluster (+ the first
-# apt-get install), ~45 s of jobs.
+# apt-get install), ~60 s of jobs.
 set -u
 bin=${RTSIM_BIN:?}/rtsim
 tmp=${RTSIM_TMP:-/tmp}/tb_sweep_slurm
@@ -114,4 +115,18 @@ check sweep_slurm_accuracy_change_more_one_array test "$(grep '^sweep: submittin
   "sweep: submitting $tmp/acc-cluster/more/sweep.sbatch and waiting for it"
 check sweep_slurm_accuracy_change_more_reruns grep -q "0 points passed at windowed, 2 with more windows, 0 rerun at full" <<< "$out"
 check sweep_slurm_accuracy_change_more_csv_equals_local cmp "$tmp/acc-cluster/changes.csv" "$tmp/acc-local/changes.csv"
+# ... and without --wait: the windowed array and a job after it that decides
+# (the same point and baseline with more windows), submits their array and
+# the next stage's job after it; once the last job has left the queue, the
+# same changes.csv as locally
+out=$("$sweep" --out "$tmp/acc-jobs" --slurm "${acc[@]/0.001pt/$p}" 2>&1); rc=$?
+check sweep_slurm_accuracy_change_jobs_exit_0 test $rc -eq 0
+check sweep_slurm_accuracy_change_jobs_submitted grep -q "^sweep: submitted array job [0-9]* (2 points in .*) and the --accuracy-change job [0-9]* (more, after it)" <<< "$out"
+for _ in $(seq 1 300); do
+  squeue -h -o %j 2> /dev/null | grep -q '^rtsim-sweep' || break
+  sleep 1
+done
+check sweep_slurm_accuracy_change_jobs_more_array grep -q "^sweep: submitted array job [0-9]* (2 points in .*/more) and the --accuracy-change job [0-9]* (full, after it)" "$tmp/acc-jobs/logs/"slurm-accuracy-more-*.out
+check sweep_slurm_accuracy_change_jobs_reruns grep -q "0 points passed at windowed, 2 with more windows, 0 rerun at full" "$tmp/acc-jobs/logs/"slurm-accuracy-full-*.out
+check sweep_slurm_accuracy_change_jobs_csv_equals_local cmp "$tmp/acc-jobs/changes.csv" "$tmp/acc-local/changes.csv"
 [ $started = 0 ] || echo "# stopped the cluster this test started" >&2

@@ -23,7 +23,7 @@ run() {
   : >"$tmp/times"
   for _ in $(seq "$runs"); do
     "$bin" "$@" >"$tmp/out"
-    awk '/^host/ { print $2 }' "$tmp/out" >>"$tmp/times"
+    awk '/^host +[0-9]/ { print $2 }' "$tmp/out" >>"$tmp/times"   # the CPU line, not the steps line
   done
   med=$(median <"$tmp/times")
   cycles=$(awk '/^cycles/ { print $2 }' "$tmp/out")

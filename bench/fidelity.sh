@@ -5,7 +5,9 @@
 # level (made for large frames) on interior 1280x720, primary and diffuse,
 # and there --accuracy 2% (accuracy2: what a fallback to full costs over a
 # plain full run, a speedup under 1) and, on diffuse rays, --accuracy 5%
-# (accuracy5: where windowed's interval fits); median of RUNS (3) runs, one core
+# (accuracy5: where windowed's interval fits), and --accuracy 5% on forest
+# 1280x720 diffuse BVH2 (a fallback at 5%: windowed's pilot and sampled's
+# groups give up); median of RUNS (3) runs, one core
 # (--jobs 1), with the level's true MRPS error against full.
 #   bash bench/fidelity.sh [BUILD_DIR]
 # CSV (BUILD_DIR/bench/fidelity.csv): benchmark,ours_median_s,reference_median_s,ratio
@@ -21,7 +23,7 @@ run() {
   : >"$tmp/times"
   for _ in $(seq "$runs"); do
     "$bin" "$@" --json "$tmp/r.json" >"$tmp/out"
-    awk '/^host/ { print $2 }' "$tmp/out" >>"$tmp/times"
+    awk '/^host +[0-9]/ { print $2 }' "$tmp/out" >>"$tmp/times"   # the CPU line, not the steps line
   done
   med=$(median <"$tmp/times")
   mrps=$(python3 -c 'import json,sys; print(json.load(open(sys.argv[1]))["mrps"])' "$tmp/r.json")
@@ -32,7 +34,8 @@ printf '%-44s %10s %10s %9s %12s %8s\n' benchmark "host (s)" "full (s)" speedup 
 for w in "interior_640x360_primary fixed-mem,functional,sampled interior --res 640x360 --rays primary" \
          "hairball_320x180_diffuse fixed-mem,functional,sampled hairball --res 320x180 --rays diffuse" \
          "interior_1280x720_primary windowed,accuracy2 interior --res 1280x720 --rays primary" \
-         "interior_1280x720_diffuse windowed,accuracy2,accuracy5 interior --res 1280x720 --rays diffuse"; do
+         "interior_1280x720_diffuse windowed,accuracy2,accuracy5 interior --res 1280x720 --rays diffuse" \
+         "forest_1280x720_diffuse_bvh2 accuracy5 forest --res 1280x720 --rays diffuse --machine bvh2"; do
   set -- $w
   name=$1 levels=$2; shift 2
   run "$@"

@@ -36,6 +36,7 @@
 
 #include "config/config.h"
 
+/* rtsim --accuracy's steps the run object holds (fidelity.h: FID_MAX_STEPS) */
 #define CLI_RUN_MAX_STEPS 8
 
 typedef struct cli_run_info {

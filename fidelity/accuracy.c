@@ -52,23 +52,6 @@ static void windowed_need(const double *ci, const double *other, const double *b
                  100 * acc, scale, 100 * scale * plan_share);
 }
 
-/* --accuracy, its first stage, spending little before it knows (a
- * fallback to full should cost at most a few percent over a plain full run):
- *   1. a cold probe: one window after a win_warm_pixels warm-up from empty
- *      caches (about 0.5% of a 1280x720 frame): where most of its fills are
- *      still cold, the caches keep their lines for most of the frame
- *      (primary rays: 43-100%), no window stands for the frame: give up;
- *   2. a pilot: the lattice and the first win_pilot_windows windows of the
- *      plan (kept if it goes on); its interval, scaled to the plan's
- *      windows (1 / sqrt(windows) and the t of the pairs), predicts the
- *      plan's estimate: beyond the target, give up; but when the low 95%
- *      bound of the pilot's spread (fid_spread_low95) would still meet
- *      it, first grow the pilot once to twice its windows and predict
- *      again;
- *   3. the plan; within the target and not flagged: windowed; else once
- *      more windows when the interval says at most twice the windows will
- *      do, within win_max_rate of the frame.
- * 0 and *picked when it meets acc; why: what it found otherwise. */
 /* The steps run so far and the CPU when the last one ended. */
 typedef struct acc_steps {
     fid_step s[FID_MAX_STEPS];
@@ -87,6 +70,7 @@ static void step_add(acc_steps *st, const char *name, double cpu_s)
     st->t += cpu_s;
 }
 
+/* The steps into the result of the level picked (fid_result.steps). */
 static void set_steps(fid_outcome *o, const acc_steps *st)
 {
     memcpy(o->res.steps, st->s, sizeof st->s);
@@ -100,6 +84,24 @@ static void step_pilot(acc_steps *st, const fid_windowed *wd)
     step_add(st, "windowed's pilot windows", -1);
 }
 
+/* --accuracy, its first stage, spending little before it knows (a
+ * fallback to full should cost at most a few percent over a plain full run):
+ *   1. a cold probe: one window after a win_warm_pixels warm-up from empty
+ *      caches (about 0.5% of a 1280x720 frame): where most of its fills are
+ *      still cold, the caches keep their lines for most of the frame
+ *      (primary rays: 43-100%), no window stands for the frame: give up;
+ *   2. a pilot: the lattice and the first win_pilot_windows windows of the
+ *      plan (kept if it goes on); its interval, scaled to the plan's
+ *      windows (1 / sqrt(windows) and the t of the pairs), predicts the
+ *      plan's estimate: beyond the target, give up; but when the low 95%
+ *      bound of the pilot's spread (fid_spread_low95) would still meet
+ *      it, first grow the pilot once to twice its windows and predict
+ *      again;
+ *   3. the plan; within the target and not flagged: windowed; else once
+ *      more windows when the interval says at most twice the windows will
+ *      do, within win_max_rate of the frame.
+ * 0 and *picked when it meets acc; why: what it found otherwise; steps:
+ * each of these it ran, with its CPU. */
 static int auto_windowed(const fid_job *job, double acc, fid_outcome *o, bool *picked, char *why, size_t whylen,
                          acc_steps *steps, char *err, size_t errlen)
 {

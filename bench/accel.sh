@@ -23,7 +23,7 @@ run() {
   : >"$tmp/times"
   for _ in $(seq "$runs"); do
     "$bin" "$@" >"$tmp/out"
-    awk '/^host +[0-9]/ { print $2 }' "$tmp/out" >>"$tmp/times"   # the CPU line, not the steps line
+    host_cpu <"$tmp/out" >>"$tmp/times"
   done
   med=$(median <"$tmp/times")
   cycles=$(awk '/^cycles/ { print $2 }' "$tmp/out")

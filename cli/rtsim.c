@@ -281,10 +281,6 @@ typedef struct progress_state {
 
 static double wall(void) { return cli_run_clock(CLOCK_MONOTONIC); }
 
-/* CPU time of this process and of its reaped worker processes (fidelity
- * levels, kernel/fork_pool.h): the run's whole cost in CPU, even on a loaded
- * host and however many cores ran it. */
-static double cpu(void) { return cli_run_clock(CLOCK_PROCESS_CPUTIME_ID) + ks_pool_children_cpu_s(); }
 
 static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admitted)
 {
@@ -563,14 +559,14 @@ static int run_fidelity(job *j)
     }
     fid_outcome fo;
     fill_run(j);
-    double t0 = wall(), c0 = cpu(), w0 = ks_pool_children_cpu_s();
+    double t0 = wall(), c0 = ks_pool_process_cpu_s(), w0 = ks_pool_children_cpu_s();
     uint64_t forked0 = ks_pool_workers_forked();
     ks_pool_set_progress(pieces_cb, &ps);
     int rc = fid_run(&job, (fid_level)o->level, o->accuracy, &fo, j->err, sizeof j->err);
     ks_pool_set_progress(NULL, NULL);
     if (ps.on)
         fprintf(stderr, "\r%70s\r", "");
-    double host_s = wall() - t0, cpu_s = cpu() - c0, worker_s = ks_pool_children_cpu_s() - w0;
+    double host_s = wall() - t0, cpu_s = ks_pool_process_cpu_s() - c0, worker_s = ks_pool_children_cpu_s() - w0;
     uint64_t workers = ks_pool_workers_forked() - forked0;
     if (o->series && series_dir_join(j, series_dir, rc == 0 && !ks_interrupted())) {
         fprintf(stderr, "rtsim: --series %s: %s\n", o->series, j->err);
@@ -712,10 +708,10 @@ static int run_full(job *j)
     }
     progress_state ps = {!o->quiet && isatty(2), false, 0, 0, 0, j->src.primary_count, wall(), &j->src};
     announce(j, &ps);
-    double t0 = wall(), c0 = cpu();
+    double t0 = wall(), c0 = ks_pool_process_cpu_s();
     ks_interrupt_polling(true);   /* accel_top_run checks ks_interrupted() every slice */
     int run_rc = accel_top_run(j->top, progress_cb, &ps, j->err, sizeof j->err);
-    double host_s = wall() - t0, cpu_s = cpu() - c0;
+    double host_s = wall() - t0, cpu_s = ks_pool_process_cpu_s() - c0;
     if (ps.on)
         fprintf(stderr, "\r%70s\r", "");
     const int sig = ks_interrupted();

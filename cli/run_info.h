@@ -80,10 +80,6 @@ typedef struct cli_run_info {
 /* Seconds on a host clock (CLOCK_MONOTONIC, CLOCK_PROCESS_CPUTIME_ID). */
 double cli_run_clock(clockid_t id);
 
-/* CPU seconds of this process and of its reaped children (rtsim's worker
- * processes): what the host_cpu_s key counts. */
-double cli_run_cpu(void);
-
 /* ri should be static in main: its copy of argv lives until exit. */
 void cli_run_init(cli_run_info *ri, const char *tool, int argc, char **argv);
 

@@ -9,6 +9,7 @@
 #include "fidelity/functional.h"
 #include "fidelity/levels.h"
 #include "fidelity/windowed.h"
+#include "kernel/fork_pool.h"
 
 /* How many times its windows a windowed estimate would need for every
  * headline figure to come within acc (at least 1): the windows' intervals
@@ -62,7 +63,7 @@ typedef struct acc_steps {
 /* The step that ran since the last one ended, of `cpu_s` (< 0: all of it). */
 static void step_add(acc_steps *st, const char *name, double cpu_s)
 {
-    const double now = fid_cpu_s();
+    const double now = ks_pool_process_cpu_s();
     if (cpu_s < 0)
         cpu_s = now - st->t;
     if (st->n < FID_MAX_STEPS)
@@ -234,7 +235,7 @@ int fid_accuracy_run(const fid_job *job, double acc, fid_outcome *o, char *err, 
      * full run (docs/fidelity.md). */
     double func_floor = fp->func_err_base, sample_floor = fp->sample_err_floor + fp->sample_err_dram;
     bool picked;
-    acc_steps steps = {.t = fid_cpu_s()};
+    acc_steps steps = {.t = ks_pool_process_cpu_s()};
     if ((rc = auto_windowed(job, acc, &trial, &picked, why, sizeof why, &steps, err, errlen)))
         goto out;
     if (picked) {

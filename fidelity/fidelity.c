@@ -9,11 +9,9 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
 #include "fidelity/fidelity_params.h"
 #include "fidelity/levels.h"
-#include "kernel/fork_pool.h"
 #include "kernel/json.h"
 
 static const char *const level_names[FID_LEVEL_COUNT] = {"full",    "fixed-mem", "functional",
@@ -102,13 +100,6 @@ void fid_print_summary(const fid_result *r, FILE *out)
         fprintf(out, "method      %s\n", r->detail);
     if (r->choice[0])
         fprintf(out, "accuracy    %s\n", r->choice);
-}
-
-double fid_cpu_s(void)
-{
-    struct timespec t;
-    double self = clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t) == 0 ? (double)t.tv_sec + 1e-9 * (double)t.tv_nsec : 0;
-    return self + ks_pool_children_cpu_s();
 }
 
 void fid_print_steps(const fid_result *r, FILE *out)

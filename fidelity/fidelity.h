@@ -50,7 +50,8 @@ bool fid_accuracy_parse(const char *s, double *fraction);
 /* What a result claims about itself. The error estimates are relative
  * (0.02 = 2%) bounds on |estimate - full model| / full model. */
 /* --accuracy's steps (a probe, a pilot, a level tried), each with the CPU
- * seconds it took in this process and its worker processes (fid_cpu_s) */
+ * seconds it took in this process and its worker processes
+ * (kernel/fork_pool.h ks_pool_process_cpu_s) */
 #define FID_MAX_STEPS 8
 typedef struct fid_step {
     const char *name;             /* a string literal: "windowed's lattice", "full", ... */
@@ -79,8 +80,6 @@ extern const ks_module_desc fid_module_desc;
 int fid_register_stats(fid_result *r, ks_stats *st);
 /* Summary lines: "fidelity    LEVEL ..." with estimates and flag. */
 void fid_print_summary(const fid_result *r, FILE *out);
-/* CPU seconds of this process and of its finished worker processes. */
-double fid_cpu_s(void);
 /* "host" line of --accuracy's steps and their CPU (nothing without steps):
  *   host        --accuracy's steps: windowed's probe 0.136 s, ..., full 20.159 s CPU
  *               (before full: 1.337 s, 6.6% of it)

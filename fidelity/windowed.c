@@ -474,10 +474,10 @@ static int run_more(const fid_job *job, struct fid_win_runs *r, uint32_t upto, b
     /* the lattice runs here, in this process: the windows' auxiliary
      * figures need its per-pixel DRAM lines */
     if ((lattice || pl.snapshot) && !r->has_lat) {   /* functional warming needs the lattice first */
-        const double t0 = fid_cpu_s();
+        const double t0 = ks_pool_process_cpu_s();
         rc = run_lattice(&pl, &r->lat, err, errlen);
         r->has_lat = rc == 0;
-        out->lattice_cpu_s = fid_cpu_s() - t0;
+        out->lattice_cpu_s = ks_pool_process_cpu_s() - t0;
     }
     if (rc == 0 && pl.count > 0) {
         win_piece *pc = calloc(pl.count, sizeof *pc);

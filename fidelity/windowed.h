@@ -71,7 +71,7 @@ typedef struct fid_windowed {
     double model_pixels;          /* pixels through the cycle model (warm-ups and windows) */
     double measured_pixels;       /* of them, inside the windows */
     double lattice_pixels;        /* pixels through the functional level for the frame's auxiliary figures */
-    double lattice_cpu_s;         /* CPU seconds the lattice took (fid_cpu_s) */
+    double lattice_cpu_s;         /* CPU seconds the lattice took (ks_pool_process_cpu_s) */
     bool too_small;               /* the frame cannot hold the plan: windows shrank or overlap */
     /* the frame */
     double primaries, rays, cycles, dram_bytes, energy_mj, static_mj;

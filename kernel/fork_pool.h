@@ -59,5 +59,8 @@ int ks_pool_cpus(void);
 uint64_t ks_pool_workers_forked(void);
 /* User + system CPU seconds of the reaped children of this process. */
 double ks_pool_children_cpu_s(void);
+/* CPU seconds of this process and of its reaped children: a run's whole
+ * cost in CPU, workers included, however many cores ran it. */
+double ks_pool_process_cpu_s(void);
 
 #endif

@@ -2,12 +2,12 @@
 #include <inttypes.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/resource.h>
 #include <unistd.h>
 
 #include "cli/json.h"
 #include "cli/run_info.h"
 #include "cli/version.h"
+#include "kernel/fork_pool.h"
 #include "model/dram/dram_timing.h"
 #include "tracer/util/fnv1a.h"
 
@@ -16,16 +16,6 @@ double cli_run_clock(clockid_t id)
     struct timespec ts;
     clock_gettime(id, &ts);
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
-double cli_run_cpu(void)
-{
-    struct rusage ru;
-    double children = 0;
-    if (getrusage(RUSAGE_CHILDREN, &ru) == 0)
-        children = (double)ru.ru_utime.tv_sec + 1e-6 * (double)ru.ru_utime.tv_usec + (double)ru.ru_stime.tv_sec +
-                   1e-6 * (double)ru.ru_stime.tv_usec;
-    return cli_run_clock(CLOCK_PROCESS_CPUTIME_ID) + children;
 }
 
 void cli_run_init(cli_run_info *ri, const char *tool, int argc, char **argv)
@@ -44,7 +34,7 @@ void cli_run_init(cli_run_info *ri, const char *tool, int argc, char **argv)
     if (gmtime_r(&now, &tm))
         strftime(ri->date, sizeof ri->date, "%Y-%m-%dT%H:%M:%SZ", &tm);
     ri->wall0 = cli_run_clock(CLOCK_MONOTONIC);
-    ri->cpu0 = cli_run_cpu();
+    ri->cpu0 = ks_pool_process_cpu_s();
 }
 
 /* ---- hashes ---- */
@@ -180,7 +170,7 @@ static void cli_run_json_real(cli_json *j, const char *key, bool has, double v)
 void cli_run_write_member(FILE *f, const cli_run_info *ri, const char *sep)
 {
     double host_wall = cli_run_clock(CLOCK_MONOTONIC) - ri->wall0;
-    double host_cpu = cli_run_cpu() - ri->cpu0;
+    double host_cpu = ks_pool_process_cpu_s() - ri->cpu0;
     cli_json j = {f, sep, true};
     fputs("\"run\": {", f);
     cli_json_str(&j, "tool", ri->tool);

@@ -36,6 +36,16 @@ expect sweep_accuracy_change_with_accuracy 2 "drop --accuracy from the rtsim arg
 expect sweep_accuracy_change_with_slurm_script 2 "--accuracy-change with Slurm needs --slurm (its reruns depend on the merged windowed results" -- \
   "$sweep" --accuracy-change 1pt --slurm-script --rtsim "$bin" --out "$tmp/u"
 check sweep_accuracy_change_bad_nothing_planned test ! -e "$tmp/u/jobs.tsv"
+# the Slurm stages' own entry (scripts/sweep accuracy-stage, run by the jobs)
+expect sweep_accuracy_stage_no_sweep_dir 2 "accuracy-stage: $tmp/u/jobs.tsv not found" -- \
+  "$sweep" accuracy-stage "$tmp/u" more 1pt
+mkdir -p "$tmp/p" && : > "$tmp/p/jobs.tsv"
+expect sweep_accuracy_stage_bad_points 2 "accuracy-stage: P = 1%: expected percentage points in (0, 100]" -- \
+  "$sweep" accuracy-stage "$tmp/p" final 1%
+expect sweep_accuracy_stage_bad_stage 2 "STAGE must be more, full or final, not 'most'" -- \
+  "$sweep" accuracy-stage "$tmp/p" most 1pt
+expect sweep_accuracy_stage_bad_jobs 2 "accuracy-stage: --jobs 0: expected a positive integer" -- \
+  "$sweep" accuracy-stage "$tmp/p" more 1pt --jobs 0
 
 if [ -n "${RTSIM_TB_SANITIZED:-}" ]; then
   echo "SKIP sweep_accuracy_change_runs: release build only (windowed and full sweeps of 640x360 diffuse frames)"

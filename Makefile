@@ -104,20 +104,24 @@ deps:
 
 # The test command of README: builds both variants, runs every testbench in
 # both, ends with "N passed, N failed".
+# The builds get one job per CPU unless the user gave a -j; the two variants'
+# testbenches then run at once (testbench/run.sh, TB_JOBS).
+NPROC := $(shell nproc 2>/dev/null || echo 1)
+BUILD_JOBS = $(if $(findstring j,$(MAKEFLAGS)),,-j$(NPROC))
 test: deps
-	$(MAKE) all
-	$(MAKE) asan
+	$(MAKE) $(BUILD_JOBS) all
+	$(MAKE) $(BUILD_JOBS) asan
 	@testbench/run.sh build build/asan
 
 # run and bench build in a second make, started after `deps`: that make reads
 # the Makefile again with the packages installed (pkg-config answers).
 RUN_CMD ?= $(BUILD)/bin/rtsim
 run: deps
-	$(MAKE) all
+	$(MAKE) $(BUILD_JOBS) all
 	$(RUN_CMD)
 
 bench: deps
-	$(MAKE) all $(BENCH_BINS)
+	$(MAKE) $(BUILD_JOBS) all $(BENCH_BINS)
 	@mkdir -p $(BUILD)/bench
 	@set -e; for s in $(sort $(wildcard bench/*.sh)); do bash $$s $(BUILD); done
 	@scripts/bench-history append $(BUILD)/bench

@@ -7,46 +7,54 @@
 # PASS/FAIL/SKIP (see tb.h). Ends with the line "N passed, N failed, N skipped".
 # Set TB_FILTER=regex to run only matching programs. Before the count it
 # names the slowest programs (wall seconds), to keep the suite short.
+# The build directories run at once, up to TB_JOBS of them (default: the
+# CPUs this shell may use); each program's lines are printed together when
+# it ends, prefixed with its build's variant ([release], [asan], ...).
 set -u
 cd "$(dirname "$0")/.."
-pass=0 fail=0 skip=0
-failed_names=()
-durations=()   # "seconds variant:label", one per program
 per_program_timeout=${TB_TIMEOUT:-900}
+state=$(mktemp -d)
+trap 'rm -rf "$state"' EXIT
 
+# One program: its lines to stdout under the lock, its counts, time and
+# name (when it failed) appended to the variant's state files.
 run_one() { # variant, label, command...
   local variant=$1 label=$2; shift 2
-  local out rc
-  out=$(mktemp)
+  local out=$state/$variant.out rc
   local t0=$SECONDS
   timeout "$per_program_timeout" "$@" >"$out" 2>"$out.err"
   rc=$?
-  durations+=("$((SECONDS - t0)) $variant:$label")
+  echo "$((SECONDS - t0)) $variant:$label" >> "$state/$variant.durations"
   local p f s
   p=$(grep -c '^PASS ' "$out"); f=$(grep -c '^FAIL ' "$out"); s=$(grep -c '^SKIP ' "$out")
-  sed -e "s|^|[$variant] |" "$out"
-  if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then
-    echo "[$variant] FAIL $label: exited with status $rc without reporting a failed case"
-    f=1
-  fi
-  if [ "$f" -gt 0 ] || [ "$rc" -ne 0 ]; then
-    echo "[$variant] --- stderr of $label (last 30 lines) ---"
-    tail -n 30 "$out.err" | sed -e "s|^|[$variant]   |"
-    failed_names+=("$variant:$label")
-  fi
-  pass=$((pass + p)); fail=$((fail + f)); skip=$((skip + s))
-  rm -f "$out" "$out.err"
+  {
+    sed -e "s|^|[$variant] |" "$out"
+    if [ "$rc" -ne 0 ] && [ "$f" -eq 0 ]; then
+      echo "[$variant] FAIL $label: exited with status $rc without reporting a failed case"
+      f=1
+    fi
+    if [ "$f" -gt 0 ] || [ "$rc" -ne 0 ]; then
+      echo "[$variant] --- stderr of $label (last 30 lines) ---"
+      tail -n 30 "$out.err" | sed -e "s|^|[$variant]   |"
+      echo "$variant:$label" >> "$state/$variant.failed"
+    fi
+  } > "$out.block"
+  # one program's block at a time, whichever variant ends first
+  flock "$state/print.lock" cat "$out.block"
+  echo "$p $f $s" >> "$state/$variant.counts"
+  rm -f "$out" "$out.err" "$out.block"
 }
 
-for build in "$@"; do
+run_build() { # build directory
+  local build=$1 variant t name
   variant=$(basename "$build")
   [ "$build" = build ] && variant=release
   # The scratch folder sits under a long path with spaces and a non-ASCII
   # letter, as a user's checkout may: a test or tool that cuts a path to a
   # fixed width or splits it at a space fails here, wherever the checkout is.
-  deep="scratch with spaces/Jääskeläinen tmp/a folder name long enough that every path under it/is over 120 characters long"
+  local deep="scratch with spaces/Jääskeläinen tmp/a folder name long enough that every path under it/is over 120 characters long"
   export RTSIM_BIN="$PWD/$build/bin" RTSIM_TMP="$PWD/$build/tmp/$deep/tb"
-  if [ ${#RTSIM_TMP} -lt 120 ]; then echo "run.sh: RTSIM_TMP shorter than 120 characters: $RTSIM_TMP" >&2; exit 1; fi
+  if [ ${#RTSIM_TMP} -lt 120 ]; then echo "run.sh: RTSIM_TMP shorter than 120 characters: $RTSIM_TMP" >&2; return 1; fi
   rm -rf "$RTSIM_TMP"; mkdir -p "$RTSIM_TMP"
   if [ "$variant" != release ]; then export RTSIM_TB_SANITIZED=1; else unset RTSIM_TB_SANITIZED; fi
   export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0 UBSAN_OPTIONS=print_stacktrace=1
@@ -62,9 +70,28 @@ for build in "$@"; do
     [[ -n "${TB_FILTER:-}" && ! "$name" =~ $TB_FILTER ]] && continue
     run_one "$variant" "$name" bash "$t"
   done < <(find testbench -name 'tb_*.sh' -type f | LC_ALL=C sort)
+}
+
+jobs=${TB_JOBS:-$(nproc 2>/dev/null || echo 1)}
+case $jobs in '' | *[!0-9]* | 0) echo "run.sh: TB_JOBS must be a whole number >= 1, not '$jobs'" >&2; exit 2 ;; esac
+pids=()
+status=0
+for build in "$@"; do
+  if [ "$jobs" -gt 1 ]; then
+    while [ "$(jobs -rp | wc -l)" -ge "$jobs" ]; do wait -n; done
+    ( run_build "$build" ) &
+    pids+=($!)
+  else
+    ( run_build "$build" ) || status=1
+  fi
 done
-slowest=$(printf '%s\n' "${durations[@]}" | sort -rn | head -8 | awk '{ printf "%s%s %ss", (NR > 1 ? ", " : ""), $2, $1 }')
+for p in "${pids[@]}"; do wait "$p" || status=1; done
+[ "$status" -eq 0 ] || exit 2
+
+read -r pass fail skip < <(cat "$state"/*.counts 2>/dev/null | awk '{ p += $1; f += $2; s += $3 } END { print p + 0, f + 0, s + 0 }')
+slowest=$(cat "$state"/*.durations 2>/dev/null | sort -rn | head -8 | awk '{ printf "%s%s %ss", (NR > 1 ? ", " : ""), $2, $1 }')
 echo "slowest programs: $slowest"
-if [ ${#failed_names[@]} -gt 0 ]; then echo "failed programs: ${failed_names[*]}"; fi
+failed=$(cat "$state"/*.failed 2>/dev/null | tr '\n' ' ')
+if [ -n "$failed" ]; then echo "failed programs: ${failed% }"; fi
 echo "$pass passed, $fail failed, $skip skipped"
 [ "$fail" -eq 0 ]

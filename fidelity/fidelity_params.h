@@ -33,12 +33,12 @@ typedef struct fid_params {
     double sample_rate;           /* default fraction of the pixels */
     int sample_groups;            /* independent groups (confidence interval) */
     double sample_t95;            /* Student t, 95%, sample_groups - 1 degrees of freedom */
-    double sample_max_err;
+    double sample_max_err;        /* estimated error beyond which a sampled result is flagged */
     double sample_err_dram;       /* sampled: bias bound of the DRAM ratio estimator */
-    double sample_give_up;        /* --accuracy: sampled's frame pass is not run when its groups predict over this x the target */
+    double sample_give_up;        /* --accuracy: the groups' prediction taken at 1/this of itself decides sampled's frame pass */
     double sample_retry_margin;   /* --accuracy: sampled's second rate, x this margin */
     double sample_retry_max_rate; /* --accuracy: no second try of sampled beyond this rate */
-    double sample_err_floor;      /* sampled: floor added to every estimate (bias of the ratio estimator) */        /* estimated error beyond which a sampled result is flagged */
+    double sample_err_floor;      /* sampled: floor added to every estimate (bias of the ratio estimator) */
     int band_rows;                /* rows per band of a sample */
     /* windowed */
     double win_rate;              /* default fraction of the pixels through the model, warm-ups included */

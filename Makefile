@@ -35,6 +35,14 @@ ifeq ($(SAN),1)
   LDFLAGS  += $(SANFLAGS)
 endif
 
+# A C string literal of $(1) inside shell single quotes, for -D...='...':
+# backslashes and double quotes escaped for C, single quotes for the shell,
+# so a checkout under a folder such as /home/o'brien builds too.
+shell_c_string = '$(subst ','\'',"$(subst ",\",$(subst \,\\,$(1)))")'
+# Where the tools find model/data (machine presets, DRAM parameters) unless
+# RTSIM_DATA_DIR is set at run time: this checkout's (mk/model.mk, mk/dram.mk).
+DATA_DIR_DEFINE = -DRTSIM_DATA_DIR=$(call shell_c_string,$(CURDIR)/model/data)
+
 LIBS := cli frame model config tracer kernel
 # Extra libraries per area (set in mk/*.mk): EXTRA_LDLIBS. Recursively
 # expanded on purpose: its $(shell pkg-config ...) parts run when a link recipe

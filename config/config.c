@@ -484,7 +484,9 @@ int rtcfg_load(rtcfg *cfg, const char *what, char *err, size_t errlen)
             return rtcfg_errorf(err, errlen, "machine preset '%s': %s/machines/%s.ini is longer than %d characters",
                                 what, rtcfg_data_dir(), what, RTCFG_PATH_MAX - 1);
         if (access(path, R_OK) != 0) {
-            char names[200];
+            /* room for "none found in <data folder>/machines" whatever the
+             * checkout's path (the data folder is compiled in) */
+            char names[RTCFG_PATH_MAX + 32];
             list_presets(names, sizeof names);
             return rtcfg_errorf(err, errlen, "unknown machine preset '%s' (presets: %s; or give a path to an .ini file)",
                                 what, names);

@@ -1,2 +1,2 @@
 # DRAM model (docs/dram.md): rtdram finds its default parameter files in model/data
-$(BUILD)/obj/cli/rtdram.c.o: CPPFLAGS += -DRTSIM_DATA_DIR='"$(CURDIR)/model/data"'
+$(BUILD)/obj/cli/rtdram.c.o: CPPFLAGS += $(DATA_DIR_DEFINE)

@@ -2,4 +2,4 @@
 EXTRA_LDLIBS += $(shell pkg-config --libs inih 2>/dev/null)
 # Machine presets (model/data/machines/*.ini): rtcfg finds them in model/data
 # unless RTSIM_DATA_DIR is set at run time.
-$(BUILD)/obj/config/config.c.o: CPPFLAGS += -DRTSIM_DATA_DIR='"$(CURDIR)/model/data"'
+$(BUILD)/obj/config/config.c.o: CPPFLAGS += $(DATA_DIR_DEFINE)

@@ -19,6 +19,8 @@ Standard library only (gnuplot does the drawing)."""
 import math
 import os
 
+from gnuplot_text import quoted
+
 FLOOR = 0.01   # % : true errors below it are drawn at it (a log axis has no 0)
 
 
@@ -57,7 +59,7 @@ def draw(tool, out, runs, rows, levels, figures, res, gnuplot):
                           ("svg size %d,%d" % (width, 330 * nrows), "svg")):
             o = os.path.join(out, "speed-accuracy-%s.%s" % (key, ext))
             outs.append(o)
-            s = ['set terminal %s\nset output "%s.tmp"\n' % (term, o),
+            s = ['set terminal %s\nset output %s\n' % (term, quoted(o + ".tmp")),
                  'set multiplot layout %d,%d title "rtsim fidelity levels: %s, %s (filled: reliable, open: flagged)"\n'
                  % (nrows, cols, label, res),
                  "set logscale xy\nset grid\nset xrange [%g:%g]\nset yrange [0.3:%g]\n" % (FLOOR, xmax, ymax),
@@ -68,8 +70,9 @@ def draw(tool, out, runs, rows, levels, figures, res, gnuplot):
                 rng = "%.2g-%.2g%%" % (min(ok), max(ok)) if ok else "none reliable"
                 s.append('set title "%s: median %.2fx; reliable errors %s"\n'
                          % (lv, _median([float(x["speedup"]) for x in pr]), rng))
-                s.append('plot "%s" index %d using 1:2 with points pt 7 lc rgb "#1f77b4", '
-                         '"%s" index %d using 1:2 with points pt 6 lc rgb "#d62728"\n' % (dat, 2 * i, dat, 2 * i + 1))
+                s.append('plot %s index %d using 1:2 with points pt 7 lc rgb "#1f77b4", '
+                         '%s index %d using 1:2 with points pt 6 lc rgb "#d62728"\n'
+                         % (quoted(dat), 2 * i, quoted(dat), 2 * i + 1))
             s.append("unset multiplot\nunset output\n")
             script.append("".join(s))
     # calibration: estimate against true error, reliable points
@@ -89,14 +92,14 @@ def draw(tool, out, runs, rows, levels, figures, res, gnuplot):
         for term, ext in (("pngcairo size 640,560", "png"), ("svg size 640,560", "svg")):
             o = os.path.join(out, "speed-accuracy-calibration.%s" % ext)
             outs.append(o)
-            plots = ", ".join('"%s" index %d using 1:2 with points pt 7 lc rgb "%s" title "%s"'
-                              % (dat, i, colours[i % 3], figures[i][1]) for i in range(len(figures)))
-            script.append('set terminal %s\nset output "%s.tmp"\nset logscale xy\nset grid\n'
+            plots = ", ".join('%s index %d using 1:2 with points pt 7 lc rgb "%s" title "%s"'
+                              % (quoted(dat), i, colours[i % 3], figures[i][1]) for i in range(len(figures)))
+            script.append('set terminal %s\nset output %s\nset logscale xy\nset grid\n'
                           'set xrange [%g:%g]\nset yrange [%g:%g]\n'
                           'set xlabel "true error vs full model (%%, log)"\nset ylabel "estimated error (%%, log)"\n'
                           'set title "rtsim fidelity: calibration of the estimates (%s, reliable points)"\n'
                           'set key bottom right box opaque\n'
                           'plot x with lines lc rgb "#000000" dt 2 title "y = x (under it: outside the estimate)", %s\n'
-                          "unset output\n" % (term, o, FLOOR, hi, FLOOR, hi, res, plots))
+                          "unset output\n" % (term, quoted(o + ".tmp"), FLOOR, hi, FLOOR, hi, res, plots))
     gnuplot(tool, "".join(script), outs)
     return outs

@@ -29,6 +29,7 @@ import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import rtsim_runs  # noqa: E402
+from gnuplot_text import quoted  # noqa: E402
 
 # (CSV column, JSON key, divisor, chart label): the figures of merit of
 # scripts/rtsim_runs.py (the experiment scripts' one table of them), in the
@@ -332,14 +333,14 @@ def draw_charts(d, header, grid, results, present):
                            "set key outside right top", "set grid",
                            "set logscale x 2" if logx else "unset logscale x",
                            xtics, "set offsets graph 0.05, graph 0.05, graph 0.05, graph 0.05",
-                           "plot " + ", ".join(f"'{dat}' index {i} using 1:2 with linespoints "
+                           "plot " + ", ".join(f"{quoted(dat)} index {i} using 1:2 with linespoints "
                                                f"title '{t.replace(chr(39), '')}'"
                                                for i, t in enumerate(titles))]
             drawn += 1
     # charts.gp names the final files (to edit and rerun by hand); gnuplot
     # itself writes temporaries, renamed only when all charts are drawn.
     def text(which):
-        return "\n".join(f"set output '{outputs[x[1]][which]}'" if isinstance(x, tuple) else x
+        return "\n".join(f"set output {quoted(outputs[x[1]][which])}" if isinstance(x, tuple) else x
                          for x in script) + "\n"
     gp = os.path.join(charts, "charts.gp")
     write_atomic(gp, text(1))

@@ -49,10 +49,11 @@ run_build() { # build directory
   local build=$1 variant t name
   variant=$(basename "$build")
   [ "$build" = build ] && variant=release
-  # The scratch folder sits under a long path with spaces and a non-ASCII
-  # letter, as a user's checkout may: a test or tool that cuts a path to a
-  # fixed width or splits it at a space fails here, wherever the checkout is.
-  local deep="scratch with spaces/Jääskeläinen tmp/a folder name long enough that every path under it/is over 120 characters long"
+  # The scratch folder sits under a long path with spaces, a single quote and
+  # a non-ASCII letter, as a user's checkout may: a test or tool that cuts a
+  # path to a fixed width, splits it at a space or pastes it into quoted
+  # text fails here, wherever the checkout is.
+  local deep="scratch with spaces/O'Brien's Jääskeläinen tmp/a folder name long enough that every path under it/is over 120 characters long"
   export RTSIM_BIN="$PWD/$build/bin" RTSIM_TMP="$PWD/$build/tmp/$deep/tb"
   if [ ${#RTSIM_TMP} -lt 120 ]; then echo "run.sh: RTSIM_TMP shorter than 120 characters: $RTSIM_TMP" >&2; return 1; fi
   rm -rf "$RTSIM_TMP"; mkdir -p "$RTSIM_TMP"

@@ -113,6 +113,16 @@ static inline const char *tb_pathf(char *buf, size_t size, const char *fmt, ...)
     return buf;
 }
 
+/* system(cmd) on up to two paths of any name (quotes, backslashes, spaces:
+ * /home/o'brien): they reach the shell as "$TB_ARG1" and "$TB_ARG2", set in
+ * the environment, never pasted into the command's text. */
+static inline int tb_system_args(const char *cmd, const char *arg1, const char *arg2)
+{
+    setenv("TB_ARG1", arg1 ? arg1 : "", 1);
+    setenv("TB_ARG2", arg2 ? arg2 : "", 1);
+    return system(cmd);
+}
+
 /* Set by run.sh for the sanitizer build: heavy cases may shrink their inputs. */
 static inline bool tb_is_sanitized(void) { return getenv("RTSIM_TB_SANITIZED") != NULL; }
 

@@ -170,7 +170,7 @@ if [ -s "$tmp/sized.ini" ] && grep -q '^ray_new *= *[0-9]' "$tmp/sized.ini" && g
    && ! grep -q '^ray_trv_loop *= *32$' "$tmp/sized.ini"; then pass accel_cli_autosize_written
 else fail accel_cli_autosize_written "sized.ini missing keys or unchanged"; fi
 out=$("$bin" "$scene" --res 24x16 --quiet --machine "$tmp/sized.ini" --json "$tmp/s2.json" 2>&1); rc=$?
-if [ $rc -eq 0 ] && python3 -c "import json,sys; a=json.load(open('$tmp/s1.json')); b=json.load(open('$tmp/s2.json')); sys.exit(0 if a['rays']==b['rays'] else 1)"; then
+if [ $rc -eq 0 ] && python3 -c "import json,sys; a=json.load(open(sys.argv[1] + '/s1.json')); b=json.load(open(sys.argv[1] + '/s2.json')); sys.exit(0 if a['rays']==b['rays'] else 1)" "$tmp"; then
   pass accel_cli_autosize_reload
 else fail accel_cli_autosize_reload "rc $rc: $out"; fi
 
@@ -182,7 +182,7 @@ expect accel_cli_deadlock_fifo_refused 2 "fifo.ray_trv_loop = 1 (--set fifo.ray_
 # run_failed 0): here rays overflow a one-entry stack
 out=$("$bin" "$scene" --res 16x16 --set trv.stack_depth=1 --json "$tmp/dl.json" 2>/dev/null)
 if echo "$out" | grep -q "^status      FAILED: [0-9]* rays overflowed their stack" &&
-   python3 -c "import json,sys; d=json.load(open('$tmp/dl.json')); a=json.load(open('$tmp/s1.json')); sys.exit(0 if d['run_failed']==1 and a['run_failed']==0 else 1)"; then
+   python3 -c "import json,sys; d=json.load(open(sys.argv[1] + '/dl.json')); a=json.load(open(sys.argv[1] + '/s1.json')); sys.exit(0 if d['run_failed']==1 and a['run_failed']==0 else 1)" "$tmp"; then
   pass accel_cli_failed_run_marked
 else fail accel_cli_failed_run_marked "summary/JSON do not mark the failed run: $(echo "$out" | head -5 | tr '\n' ' ')"; fi
 # a stack too small for the scene: exit 1 naming the key

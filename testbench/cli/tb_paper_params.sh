@@ -59,7 +59,7 @@ expect paper_traffic_summary_line 0 "footprint" -- cat "$tmp/tiles.out"
 # conflict); no SRAM figure covers them, so without energy
 "$bin" interior --res 32x18 --quiet --set node_l2.size=1M --set prim.size=1M --set energy.enabled=false \
   --json "$tmp/tiny.json" >/dev/null 2>&1
-if python3 -c "import json,sys; d=json.load(open('$tmp/tiny.json')); sys.exit(0 if d['dram_refetch_bytes']==0 and d['dram_footprint_bytes']==d['dram_bytes'] else 1)"; then
+if python3 -c "import json,sys; d=json.load(open(sys.argv[1] + '/tiny.json')); sys.exit(0 if d['dram_refetch_bytes']==0 and d['dram_footprint_bytes']==d['dram_bytes'] else 1)" "$tmp"; then
   pass paper_traffic_no_refetch_when_the_frame_fits
 else fail paper_traffic_no_refetch_when_the_frame_fits "refetches on a 32x18 frame"; fi
 
@@ -68,7 +68,7 @@ else fail paper_traffic_no_refetch_when_the_frame_fits "refetches on a 32x18 fra
 "$bin" interior --res 64x36 --rays diffuse --set bvh.builder=wald --json "$tmp/bw.json" >"$tmp/bw.out" 2>&1
 nc=$(sed -n 's/^BVH *\([0-9]*\) nodes.*/\1/p' "$tmp/bc.out"); nw=$(sed -n 's/^BVH *\([0-9]*\) nodes.*/\1/p' "$tmp/bw.out")
 if [ -n "$nc" ] && [ -n "$nw" ] && [ "$nw" -lt "$nc" ] &&
-   python3 -c "import json,sys; a=json.load(open('$tmp/bc.json')); b=json.load(open('$tmp/bw.json')); sys.exit(0 if a['sched.primaries']==b['sched.primaries'] and a['run_failed']==0==b['run_failed'] else 1)"; then
+   python3 -c "import json,sys; a=json.load(open(sys.argv[1] + '/bc.json')); b=json.load(open(sys.argv[1] + '/bw.json')); sys.exit(0 if a['sched.primaries']==b['sched.primaries'] and a['run_failed']==0==b['run_failed'] else 1)" "$tmp"; then
   pass paper_builder_wald_fewer_nodes
 else fail paper_builder_wald_fewer_nodes "collapse '$nc' nodes, wald '$nw'"; fi
 

@@ -157,9 +157,7 @@ int main(void)
     test_reads_in_order();
     test_file_errors();
     test_helpers();
-    char cmd[TB_PATH_MAX + 16];
-    tb_pathf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-    if (system(cmd) != 0)
+    if (tb_system_args("rm -rf \"$TB_ARG1\"", tmpdir, NULL) != 0)
         printf("INFO could not remove %s\n", tmpdir);
     return tb_finish();
 }

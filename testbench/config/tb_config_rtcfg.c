@@ -368,9 +368,7 @@ int main(void)
     test_set_errors();
     test_write_roundtrip();
     test_dram_keys();
-    char cmd[TB_PATH_MAX + 16];
-    tb_pathf(cmd, sizeof cmd, "rm -rf '%s'", tmpdir);
-    if (system(cmd) != 0)
+    if (tb_system_args("rm -rf \"$TB_ARG1\"", tmpdir, NULL) != 0)
         fprintf(stderr, "could not remove %s\n", tmpdir);
     return tb_finish();
 }

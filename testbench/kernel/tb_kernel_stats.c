@@ -74,7 +74,7 @@ static int have_python(void) { return system("command -v python3 >/dev/null 2>&1
 static void test_outputs(void)
 {
     const char *dir = getenv("RTSIM_TMP");
-    char json[TB_PATH_MAX], csv[TB_PATH_MAX], cmd[TB_PATH_MAX + 1024];
+    char json[TB_PATH_MAX], csv[TB_PATH_MAX];
     tb_pathf(json, sizeof json, "%s/kernel_stats.json", dir && *dir ? dir : "/tmp");
     tb_pathf(csv, sizeof csv, "%s/kernel_stats.csv", dir && *dir ? dir : "/tmp");
     uint64_t owned = 500;
@@ -85,17 +85,15 @@ static void test_outputs(void)
     TB_EQ_INT(ks_stats_write_json(r, f), 0);
     fclose(f);
     if (have_python()) {
-        tb_pathf(cmd, sizeof cmd,
-                 "python3 -c 'import json,sys; d=json.load(open(sys.argv[1]));"
+        TB_CHECK(tb_system_args("python3 -c 'import json,sys; d=json.load(open(sys.argv[1]));"
                  "assert d[\"l1.accesses\"]==1000 and d[\"l1.hits\"]==750;"
                  "assert d[\"trv0.node_visits\"]==500 and d[\"energy\"]==0.1;"
                  "assert d[\"l1.hit_rate\"]==0.75 and d[\"trv0.visits_per_access\"]==0.5;"
                  "h=d[\"mem.latency\"]; assert h[\"count\"]==6 and h[\"bins\"]==[1,2,0,1];"
                  "assert h[\"underflow\"]==1 and h[\"overflow\"]==1 and h[\"max\"]==250;"
                  "assert d[\"_units\"][\"energy\"]==\"mJ\";"
-                 "assert d[\"_descriptions\"][\"energy\"]==\"energy \\\"per\\\" frame\"' '%s'",
-                 json);
-        TB_CHECK(system(cmd) == 0, "python3 rejected or misread %s", json);
+                 "assert d[\"_descriptions\"][\"energy\"]==\"energy \\\"per\\\" frame\"' \"$TB_ARG1\"",
+                 json, NULL) == 0, "python3 rejected or misread %s", json);
     } else {
         char *t = tb_read_file(json, NULL);
         TB_CHECK(t && strstr(t, "\"l1.accesses\": 1000,"), "JSON lacks a counter");

@@ -106,13 +106,13 @@ static int have_vcd2fst(void) { return system("command -v vcd2fst >/dev/null 2>&
 /* vcd2fst must accept the file and fst2vcd must give back our variables. */
 static void check_with_gtkwave(const char *vcd, const char *must_contain)
 {
-    char fst[TB_PATH_MAX], back[TB_PATH_MAX], cmd[2 * TB_PATH_MAX + 64];
+    char fst[TB_PATH_MAX], back[TB_PATH_MAX];
     tb_pathf(fst, sizeof fst, "%s.fst", vcd);
     tb_pathf(back, sizeof back, "%s.back.vcd", vcd);
-    tb_pathf(cmd, sizeof cmd, "vcd2fst '%s' '%s' >/dev/null 2>&1", vcd, fst);
-    TB_CHECK(system(cmd) == 0, "vcd2fst failed on %s", vcd);
-    tb_pathf(cmd, sizeof cmd, "fst2vcd '%s' >'%s' 2>/dev/null", fst, back);
-    TB_CHECK(system(cmd) == 0, "fst2vcd failed on %s", fst);
+    TB_CHECK(tb_system_args("vcd2fst \"$TB_ARG1\" \"$TB_ARG2\" >/dev/null 2>&1", vcd, fst) == 0, "vcd2fst failed on %s",
+             vcd);
+    TB_CHECK(tb_system_args("fst2vcd \"$TB_ARG1\" >\"$TB_ARG2\" 2>/dev/null", fst, back) == 0, "fst2vcd failed on %s",
+             fst);
     char *t = tb_read_file(back, NULL);
     TB_CHECK(t && strstr(t, must_contain), "round trip through FST lost '%s'", must_contain);
     free(t);

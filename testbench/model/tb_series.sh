@@ -56,7 +56,7 @@ run=(interior --res 48x27 --rays diffuse --bounces 2 --quiet)
 "$bin" "${run[@]}" --json "$tmp/s.json" --series "$tmp/s.csv" --series-interval 700 >/dev/null 2>&1
 check series_rows_sum_to_totals sums "$tmp/s.csv" "$tmp/s.json"
 check series_results_unchanged same_results "$tmp/plain.json" "$tmp/s.json"
-rows=$(($(wc -l <"$tmp/s.csv") - 1)); cyc=$(python3 -c "import json; print(json.load(open('$tmp/s.json'))['cycles'])")
+rows=$(($(wc -l <"$tmp/s.csv") - 1)); cyc=$(python3 -c "import json, sys; print(json.load(open(sys.argv[1] + '/s.json'))['cycles'])" "$tmp")
 check series_interval_sets_rows test "$rows" -eq $(((cyc + 699) / 700))
 check series_header_units_documented python3 - "$tmp/s.csv" "$(dirname "$0")/../../docs/results.md" <<'PY'
 import re, sys
@@ -72,8 +72,8 @@ PY
 check series_fixed_memory_sums sums "$tmp/f.csv" "$tmp/f.json"
 check series_fixed_memory_no_row_hits python3 -c "
 import csv, sys
-rows = list(csv.DictReader(open('$tmp/f.csv')))
-sys.exit(0 if rows and all(r['dram_row_hit_rate'] == '' and r['dram_queue_mean'] == '' for r in rows) else 1)"
+rows = list(csv.DictReader(open(sys.argv[1] + '/f.csv')))
+sys.exit(0 if rows and all(r['dram_row_hit_rate'] == '' and r['dram_queue_mean'] == '' for r in rows) else 1)" "$tmp"
 
 # cheaper levels: same figures with and without, rows labelled; the
 # pieces' scratch folder (in TMPDIR) is removed
@@ -92,20 +92,20 @@ for lvl in sampled windowed; do
 done
 check series_fixed_mem_one_frame python3 -c "
 import csv, sys
-rows = list(csv.DictReader(open('$tmp/fixed-mem.csv')))
-sys.exit(0 if rows and {r['phase'] for r in rows} == {'frame'} and {r['piece'] for r in rows} == {'0'} else 1)"
+rows = list(csv.DictReader(open(sys.argv[1] + '/fixed-mem.csv')))
+sys.exit(0 if rows and {r['phase'] for r in rows} == {'frame'} and {r['piece'] for r in rows} == {'0'} else 1)" "$tmp"
 check series_sampled_groups python3 -c "
 import csv, json, sys
-rows = list(csv.DictReader(open('$tmp/sampled.csv')))
-d = json.load(open('$tmp/sampled-b.json'))
+rows = list(csv.DictReader(open(sys.argv[1] + '/sampled.csv')))
+d = json.load(open(sys.argv[1] + '/sampled-b.json'))
 groups = {r['piece'] for r in rows}
 ok = rows and {r['phase'] for r in rows} == {'group'} and len(groups) > 1
 ok = ok and sum(int(r['rays_completed']) for r in rows) == d['sample.rays']
-sys.exit(0 if ok else 1)"
+sys.exit(0 if ok else 1)" "$tmp"
 check series_windowed_windows_marked python3 -c "
 import csv, json, sys
-rows = list(csv.DictReader(open('$tmp/windowed.csv')))
-d = json.load(open('$tmp/windowed-b.json'))
+rows = list(csv.DictReader(open(sys.argv[1] + '/windowed.csv')))
+d = json.load(open(sys.argv[1] + '/windowed-b.json'))
 wins = {int(r['piece']) for r in rows if r['phase'] == 'window'}
 ok = rows and {r['phase'] for r in rows} <= {'warm-up', 'window'} and wins == set(range(int(d['window.count'])))
 # each window's rows follow its warm-up's without a gap
@@ -113,7 +113,7 @@ for w in wins:
     rs = [r for r in rows if int(r['piece']) == w]
     ok = ok and all(int(a['cycle_end']) == int(b['cycle_begin']) for a, b in zip(rs, rs[1:]))
     ok = ok and rs[-1]['phase'] == 'window'
-sys.exit(0 if ok else 1)"
+sys.exit(0 if ok else 1)" "$tmp"
 check series_no_scratch_left test -z "$(ls -A "$tmp/scratch")"
 
 # bad input: exit 2 naming the option and the range or the reason
@@ -138,5 +138,5 @@ rc=$?
 if [ "$rc" -eq 0 ]; then
   echo "SKIP series_interrupted_leaves_none: the run ended before the signal"
 else
-  check series_interrupted_leaves_none sh -c "[ $rc -eq 130 ] && [ ! -e '$tmp/int.csv' ] && ! ls '$tmp' | grep -q 'int.csv.' && grep -q '\"partial\": true' '$tmp/int.json'"
+  check series_interrupted_leaves_none sh -c '[ "$1" -eq 130 ] && [ ! -e "$2/int.csv" ] && ! ls "$2" | grep -q "int.csv." && grep -q "\"partial\": true" "$2/int.json"' _ "$rc" "$tmp"
 fi

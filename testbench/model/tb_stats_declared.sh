@@ -81,7 +81,7 @@ sys.exit(1 if bad else 0)
 PY
 rc=$?
 check stats_declared_equal_registered test $rc -eq 0
-check stats_declared_modules_have_tables sh -c "for m in $modules; do grep -q 'Statistics' '$tmp/help-'\$m.txt || exit 1; done"
+check stats_declared_modules_have_tables sh -c 'd=$1; shift; for m; do grep -q Statistics "$d/help-$m.txt" || exit 1; done' _ "$tmp" $modules
 
 # Parameters are written once, in the schema of a configuration section
 # (docs/design.md, "Adding a unit"): a module's --help-module names its

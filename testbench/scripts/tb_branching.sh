@@ -42,6 +42,6 @@ assert three["index"]["area_mm2"] != three["1bank"]["area_mm2"]  # 96 B node wor
 PY
 check branching_md_table grep -q '^| \*\*4\*\* | ' "$tmp/out/branching.md"
 check branching_md_against_4 grep -q '^| 3 | index | ' "$tmp/out/branching.md"
-check branching_charts sh -c "head -c 8 '$tmp/out/branching-mrps-per-mm2.png' | grep -q PNG && test -s '$tmp/out/branching-energy.svg'"
+check branching_charts sh -c 'head -c 8 "$1/out/branching-mrps-per-mm2.png" | grep -q PNG && test -s "$1/out/branching-energy.svg"' _ "$tmp"
 expect branching_bad_widths 2 "4 among them" -- scripts/branching --bin "$RTSIM_BIN/rtsim" --widths 3,5
 expect branching_bad_rays 2 "allowed primary, diffuse" -- scripts/branching --bin "$RTSIM_BIN/rtsim" --rays shadow

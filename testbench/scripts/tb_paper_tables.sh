@@ -20,9 +20,9 @@ check paper_tables_runs test "$rc" -eq 0
 for f in table1.md table1.csv table2.md table2.csv changes.png changes.svg; do
   check "paper_tables_writes_${f/./_}" test -s "$tmp/out/$f"
 done
-check paper_tables_png_is_png sh -c "head -c 8 '$tmp/out/changes.png' | grep -q PNG"
+check paper_tables_png_is_png sh -c 'head -c 8 "$1/out/changes.png" | grep -q PNG' _ "$tmp"
 check paper_tables_svg_is_svg grep -q '<svg' "$tmp/out/changes.svg"
-check paper_tables_no_temp_left sh -c "! ls '$tmp/out' | grep -q '\.tmp$'"
+check paper_tables_no_temp_left sh -c '! ls "$1/out" | grep -q "\.tmp$"' _ "$tmp"
 check_values() {
   python3 - "$tmp/out" <<'PY'
 import csv, json, os, sys

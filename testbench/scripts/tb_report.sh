@@ -36,8 +36,8 @@ urls = set(re.findall(r"(?:src|href)\s*=\s*[\"']?(https?:[^\"' >]*)", s)) | set(
 sys.exit(1 if miss or urls else 0)
 PY
 check report_windowed_marks_windows python3 -c "
-import sys; s = open('$tmp/win.html').read()
-sys.exit(0 if 'Fidelity level <b>windowed</b>' in s and s.count('class=\"band\"') >= 2 else 1)"
+import sys; s = open(sys.argv[1] + '/win.html').read()
+sys.exit(0 if 'Fidelity level <b>windowed</b>' in s and s.count('class=\"band\"') >= 2 else 1)" "$tmp"
 
 # the browser: Debian's chromium, as the page's reader would open it
 chrome=$(command -v chromium || command -v chromium-browser || true)
@@ -75,9 +75,9 @@ assert 'data-ok="1"' in tag and "chart-pareto" in ids and "chart-mrps-vs-trv.cou
 assert "data-count" not in re.search(r'<div id="errors"[^>]*>', dom).group(0)
 PY
   check report_windowed_renders python3 -c "
-import re, sys; dom = open('$tmp/win.dom').read()
+import re, sys; dom = open(sys.argv[1] + '/win.dom').read()
 m = re.search(r'<div id=\"selfcheck\"[^>]*data-ok=\"1\"', dom)
-sys.exit(0 if m and 'data-count' not in re.search(r'<div id=\"errors\"[^>]*>', dom).group(0) else 1)"
+sys.exit(0 if m and 'data-count' not in re.search(r'<div id=\"errors\"[^>]*>', dom).group(0) else 1)" "$tmp"
 fi
 
 # bad input: exit 2, a message naming the file or option, no page
@@ -90,4 +90,4 @@ expect report_heatmap_not_png 2 "--heatmap $tmp/run.csv: not a PNG image" -- \
   "$report" "$tmp/run.json" --heatmap "$tmp/run.csv" -o "$tmp/bad4.html"
 expect report_bad_peak 2 "--dram-peak-gbs abc: expected a bandwidth" -- "$report" "$tmp/run.json" --dram-peak-gbs abc
 expect report_no_folder 2 "-o $tmp/no/such/x.html: the folder" -- "$report" "$tmp/run.json" -o "$tmp/no/such/x.html"
-check report_bad_input_leaves_nothing sh -c "! ls '$tmp' | grep -q '^bad'"
+check report_bad_input_leaves_nothing sh -c '! ls "$1" | grep -q "^bad"' _ "$tmp"

@@ -26,7 +26,7 @@ n=$(tail -n +2 "$tmp/out/sensitivity.csv" | wc -l)
 # a row); the other ray FIFOs are varied apart from it and measured at half
 check sensitivity_csv_rows test "$n" -eq $(((15 * 2 - 1) * 4))
 check sensitivity_refused_reported grep -q "TRV loop FIFO depth at half: fifo.ray_trv_loop" "$tmp/out/sensitivity.md"
-check sensitivity_md_names_params sh -c "for p in 'L1 MSHRs' 'IST latency' 'ray FIFO depths' 'TRV loop FIFO depth' 'shade latency'; do grep -q \"| \$p |\" '$tmp/out/sensitivity.md' || exit 1; done"
+check sensitivity_md_names_params sh -c 'for p in "L1 MSHRs" "IST latency" "ray FIFO depths" "TRV loop FIFO depth" "shade latency"; do grep -q "| $p |" "$1/out/sensitivity.md" || exit 1; done' _ "$tmp"
 check sensitivity_md_flip_verdict grep -qE 'flip' "$tmp/out/sensitivity.md"
 h=$(printf 'ist.latency=32' | sha1sum | cut -c1-12)
 check sensitivity_ist_double_run test -s "$tmp/out/runs/interior_primary_mbvh4_8x8_$h.json"
@@ -34,5 +34,5 @@ h=$(printf 'node_l1.mshrs=4' | sha1sum | cut -c1-12)
 check sensitivity_l1_mshr_half_run test -s "$tmp/out/runs/interior_primary_mbvh4_8x8_$h.json"
 pngs=$(ls "$tmp/out"/tornado-*.png 2>/dev/null | wc -l)
 check sensitivity_tornado_charts test "$pngs" -eq 8
-check sensitivity_png_is_png sh -c "head -c 8 '$tmp/out/tornado-change-mrps.png' | grep -q PNG"
+check sensitivity_png_is_png sh -c 'head -c 8 "$1/out/tornado-change-mrps.png" | grep -q PNG' _ "$tmp"
 expect sensitivity_bad_rays 2 "allowed primary, diffuse" -- scripts/sensitivity --bin "$RTSIM_BIN/rtsim" --rays shadow

@@ -463,9 +463,7 @@ int main(void)
 {
     const char *base = getenv("RTSIM_TMP");
     tb_pathf(tmpdir, sizeof tmpdir, "%s/tb_energy", base && *base ? base : "/tmp");
-    char cmd[TB_PATH_MAX + 16];
-    tb_pathf(cmd, sizeof cmd, "mkdir -p '%s'", tmpdir);
-    if (system(cmd) != 0)
+    if (tb_system_args("mkdir -p \"$TB_ARG1\"", tmpdir, NULL) != 0)
         return 2;
     test_load_and_exact();
     test_scaling();

@@ -281,7 +281,6 @@ typedef struct progress_state {
 
 static double wall(void) { return cli_run_clock(CLOCK_MONOTONIC); }
 
-
 static void progress_cb(void *user, uint64_t cycle, uint64_t done, uint64_t admitted)
 {
     progress_state *p = user;

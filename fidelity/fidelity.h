@@ -47,8 +47,6 @@ bool fid_level_parse(const char *s, fid_level *out);
 /* "2%", "2", "0.5%": percent in (0, 100]; false otherwise. */
 bool fid_accuracy_parse(const char *s, double *fraction);
 
-/* What a result claims about itself. The error estimates are relative
- * (0.02 = 2%) bounds on |estimate - full model| / full model. */
 /* --accuracy's steps (a probe, a pilot, a level tried), each with the CPU
  * seconds it took in this process and its worker processes
  * (kernel/fork_pool.h ks_pool_process_cpu_s) */
@@ -58,6 +56,8 @@ typedef struct fid_step {
     double cpu_s;
 } fid_step;
 
+/* What a result claims about itself. The error estimates are relative
+ * (0.02 = 2%) bounds on |estimate - full model| / full model. */
 typedef struct fid_result {
     fid_level level;
     double err_mrps, err_dram_mb, err_energy_mj;

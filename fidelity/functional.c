@@ -434,8 +434,7 @@ int fid_functional_run_snap(const fid_job *job, const uint32_t *pixels, uint32_t
         cache_stats cs;
         cache_core_get_stats(st.l1[i], &cs);
         out->trv_l1_miss_lines[i] = cs.miss_lines;
-        out->l1.accesses += cs.accesses, out->l1.hits += cs.hits, out->l1.misses += cs.misses;
-        out->l1.miss_lines += cs.miss_lines, out->l1.fills += cs.fills;
+        add_cache(&out->l1, &cs);
     }
     cache_core_get_stats(st.l2, &out->l2);
     cache_core_get_stats(st.prim, &out->prim);

@@ -192,7 +192,7 @@ static int sampled_run(const fid_job *job, double rate, double give_up, fid_outc
     sampled_estimate(job, G, groups, ff, &e);
     const double sample_rays = e.sample_rays, *mean = e.mean;
     free(pc);
-    double ci[3] = {e.rel[0], e.rel[1], e.rel[2]}, rel[3];
+    double rel[3];
     sampled_errors(&e, ff->phase_excess, rel);
     r->err_mrps = rel[0], r->err_dram_mb = rel[1], r->err_energy_mj = rel[2];
     fid_own *w = o->own;
@@ -218,7 +218,7 @@ static int sampled_run(const fid_job *job, double rate, double give_up, fid_outc
                  "sampled at %.2f%% of the pixels: error estimate (95%% CI MRPS %.1f%%, DRAM %.1f%%, mJ %.1f%%; "
                  "functional vs model on the sample before calibration %.1f%%, DRAM %.1f%%; the frame's phase "
                  "excess %.1f%%) exceeds the %.1f%% bound%s",
-                 100.0 * rate, 100.0 * ci[0], 100.0 * ci[1], 100.0 * ci[2], 100.0 * e.raw_mrps_dev, 100.0 * e.dev[1],
+                 100.0 * rate, 100.0 * e.rel[0], 100.0 * e.rel[1], 100.0 * e.rel[2], 100.0 * e.raw_mrps_dev, 100.0 * e.dev[1],
                  100.0 * ff->phase_excess, 100.0 * bound, e.min_pixels < 64 ? "; a group has under 64 pixels" : "");
         fid_set_unreliable(r, why);
     }
